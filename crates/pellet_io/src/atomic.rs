@@ -1,0 +1,69 @@
+//! Reading inputs and writing outputs: `-` for stdin/stdout, atomic files.
+
+use std::io::{IsTerminal, Read, Write};
+use std::path::Path;
+
+use crate::IoError;
+
+/// One output: a destination (`-` = stdout) and its bytes.
+pub struct OutputFile {
+    /// Path, or `-` for stdout.
+    pub path: String,
+    /// The complete contents.
+    pub bytes: Vec<u8>,
+    /// Whether the contents are binary (refused on a terminal).
+    pub binary: bool,
+    /// What it is, for messages (e.g. "pellet file").
+    pub what: String,
+}
+
+/// Reads a whole input file, or stdin for `-` (refused when stdin is a terminal).
+pub fn read_input(path: &str) -> Result<Vec<u8>, IoError> {
+    if path == "-" {
+        let stdin = std::io::stdin();
+        if stdin.is_terminal() {
+            return Err(IoError::Io {
+                path: "-".into(),
+                source: std::io::Error::other("stdin is a terminal; give a file name or pipe the data in"),
+            });
+        }
+        let mut buf = Vec::new();
+        stdin.lock().read_to_end(&mut buf).map_err(|source| IoError::Io { path: "-".into(), source })?;
+        return Ok(buf);
+    }
+    std::fs::read(path).map_err(|source| IoError::Io { path: path.into(), source })
+}
+
+/// Writes every output, all or nothing as far as the file system allows:
+/// each is first written in full to a temporary file beside its target,
+/// and only when all are complete are they renamed into place. Stdout
+/// (`-`) is written last.
+pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
+    let mut staged = Vec::new();
+    for out in outputs.iter().filter(|o| o.path != "-") {
+        let target = Path::new(&out.path);
+        let dir = match target.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let io = |source| IoError::Io { path: out.path.clone(), source };
+        let mut tmp = tempfile::Builder::new().prefix(".packbed-").suffix(".tmp").tempfile_in(dir).map_err(io)?;
+        tmp.write_all(&out.bytes).map_err(io)?;
+        tmp.as_file().sync_all().map_err(io)?;
+        staged.push((tmp, target));
+    }
+    for (tmp, target) in staged {
+        tmp.persist(target).map_err(|e| IoError::Io { path: target.display().to_string(), source: e.error })?;
+    }
+    for out in outputs.iter().filter(|o| o.path == "-") {
+        let stdout = std::io::stdout();
+        if out.binary && stdout.is_terminal() {
+            return Err(IoError::BinaryToTerminal { what: out.what.clone() });
+        }
+        let mut lock = stdout.lock();
+        lock.write_all(&out.bytes)
+            .and_then(|_| lock.flush())
+            .map_err(|source| IoError::Io { path: "-".into(), source })?;
+    }
+    Ok(())
+}

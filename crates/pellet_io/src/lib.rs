@@ -1,0 +1,91 @@
+//! Every file packbed reads or writes, and the rules for writing them.
+//!
+//! Only this crate touches files, stdin and stdout, and only it knows the
+//! byte layouts. Outputs are written atomically (a temporary file in the
+//! target's directory, renamed into place when complete), so an error or an
+//! interruption never leaves a partial file under the final name. The path
+//! `-` means stdin or stdout.
+//!
+//! # The pellet file (`.pellet`)
+//!
+//! Written by `mkpellet`, read by `pack`, `voidprof` and `bedexport`.
+//!
+//! | bytes | content |
+//! |---|---|
+//! | 0..8 | magic `PBPELLET` |
+//! | 8..12 | format version, u32 little-endian (currently [`PELLET_FORMAT_VERSION`]) |
+//! | 12.. | a [`PelletFile`] encoded with bincode 2 (`config::standard()` with fixed-width little-endian integers), serde layout |
+//!
+//! Units: every length in the [`pellet_geom::Pellet`] is in **metres**
+//! (mesh vertices, convex pieces, closed-form radii, bounding radius), mass
+//! properties are **per unit density** (volume m³, area m², inertia m⁵:
+//! multiply by a density in kg/m³ for kg and kg·m²). Shape parameters are
+//! recorded in millimetres, as typed (fields end in `_mm`). The body frame
+//! has its origin at the centroid and the symmetry axis along z.
+//!
+//! Compatibility: a reader accepts exactly its own major format version
+//! and fails with an error naming both versions otherwise; there is no
+//! backward compatibility before version 1.0 of packbed.
+//!
+//! # Meshes
+//!
+//! STL (binary or ASCII) and Wavefront OBJ are read into
+//! [`pellet_geom::TriMesh`]; STL is written binary (f32, the common
+//! hand-off to CFD meshers) and OBJ as text. STL has no unit: packbed
+//! writes millimetres unless told otherwise.
+#![deny(missing_docs)]
+
+mod atomic;
+mod mesh_files;
+mod pellet_file;
+
+pub use atomic::{read_input, write_outputs, OutputFile};
+pub use mesh_files::{obj_bytes, read_mesh, stl_bytes, MeshFormat};
+pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELLET_FORMAT_VERSION, PELLET_MAGIC};
+
+/// What can go wrong reading or writing packbed's files.
+#[derive(Debug, thiserror::Error)]
+pub enum IoError {
+    /// The operating system refused a read or write.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file involved.
+        path: String,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The bytes are not a file of the expected kind.
+    #[error("{path}: not a packbed pellet file (magic {found:?}, expected {expected:?}); make one with `mkpellet`")]
+    BadMagic {
+        /// The file involved.
+        path: String,
+        /// The first bytes found.
+        found: String,
+        /// The magic expected.
+        expected: String,
+    },
+    /// The file's format version is not this build's.
+    #[error("{path}: pellet format version {found}, but this build reads version {supported}; re-make it with this `mkpellet`")]
+    UnsupportedVersion {
+        /// The file involved.
+        path: String,
+        /// Version in the file.
+        found: u32,
+        /// Version this build reads.
+        supported: u32,
+    },
+    /// The file is truncated or corrupt.
+    #[error("{path}: {reason}")]
+    Corrupt {
+        /// The file involved.
+        path: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// Refused to write binary data to a terminal.
+    #[error("refusing to write binary {what} to a terminal; give a file name with -o or redirect stdout")]
+    BinaryToTerminal {
+        /// What would have been written.
+        what: String,
+    },
+}
