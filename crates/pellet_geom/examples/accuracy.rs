@@ -18,7 +18,10 @@ fn main() {
             10.0,
         ),
     ];
-    println!("{:<15} {:>5} {:>7} {:>10} {:>10} {:>10} {:>10}", "shape", "level", "faces", "volume %", "area %", "Izz %", "Ixx %");
+    println!(
+        "{:<15} {:>5} {:>7} {:>10} {:>10} {:>10} {:>10}",
+        "shape", "level", "faces", "volume %", "area %", "Izz %", "Ixx %"
+    );
     for (name, spec, ri, ro, h) in shapes {
         // Exact values in mm-based units.
         let (v, a, izz, ixx) = if h.is_nan() {

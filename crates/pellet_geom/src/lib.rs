@@ -16,6 +16,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod bed;
 pub mod catalogue;
 pub mod extrude;
 pub mod mass;
@@ -30,6 +31,7 @@ pub mod sphere;
 pub mod subdivision;
 pub mod surface;
 
+pub use bed::{Bed, PlacedPellet, Tube};
 pub use mass::MassProperties;
 pub use mesh::{Topology, TriMesh};
 pub use pellet::{Pellet, Resolution};

@@ -27,6 +27,17 @@
 //! and fails with an error naming both versions otherwise; there is no
 //! backward compatibility before version 1.0 of packbed.
 //!
+//! # The packing file (`.packing`)
+//!
+//! Written by `settle-check`, read by `voidprof` and `bedexport`: one
+//! frame of a bed. Same layout as the pellet file with magic `PBPACKNG`
+//! and its own version ([`PACKING_FORMAT_VERSION`]); the payload is a
+//! [`PackingFile`]: provenance, the frame's time (s), the settle verdict,
+//! and a [`pellet_geom::Bed`] — the tube (diameter and optional lid height,
+//! m; axis z, floor z = 0), the pellet types (complete [`pellet_geom::Pellet`]s,
+//! so the file alone is enough), and every pellet's type index, centroid
+//! position (m) and unit quaternion (w, x, y, z) mapping body to world.
+//!
 //! # Meshes
 //!
 //! STL (binary or ASCII) and Wavefront OBJ are read into
@@ -37,10 +48,14 @@
 
 mod atomic;
 mod mesh_files;
+mod packing_file;
 mod pellet_file;
 
 pub use atomic::{read_input, write_outputs, OutputFile};
 pub use mesh_files::{obj_bytes, read_mesh, stl_bytes, MeshFormat};
+pub use packing_file::{
+    decode_packing, encode_packing, PackingFile, SettleVerdict, PACKING_FORMAT_VERSION, PACKING_MAGIC,
+};
 pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELLET_FORMAT_VERSION, PELLET_MAGIC};
 
 /// What can go wrong reading or writing packbed's files.

@@ -56,3 +56,31 @@ fn stl_and_obj_exports_reimport_with_the_same_mesh() {
     let ascii = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
     assert_eq!(read_mesh(ascii.as_bytes(), MeshFormat::Stl, "a.stl").unwrap().face_count(), 1);
 }
+
+#[test]
+fn packing_file_round_trip_and_validation() {
+    use pellet_geom::{Bed, PlacedPellet, Tube};
+    use pellet_io::{decode_packing, encode_packing, PackingFile, SettleVerdict};
+    let pellet = Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution { level: 0, faces: None }).unwrap();
+    let mut packing = PackingFile {
+        length_unit: "m".into(),
+        provenance: Provenance { tool: "test".into(), version: "0".into(), args: vec![] },
+        time_s: 1.5,
+        verdict: Some(SettleVerdict { settled: true, settle_time_s: Some(1.2), kinetic_energy_j: 1e-9 }),
+        bed: Bed {
+            tube: Tube { diameter: 0.04, lid_height: None },
+            pellet_types: vec![pellet],
+            pellets: vec![PlacedPellet {
+                type_index: 0,
+                position: [0.0, 0.0, 0.005],
+                orientation: [1.0, 0.0, 0.0, 0.0],
+            }],
+        },
+    };
+    let bytes = encode_packing(&packing).unwrap();
+    assert_eq!(decode_packing(&bytes, "p").unwrap(), packing);
+    assert!(decode_packing(&bytes[..bytes.len() - 5], "p").is_err());
+    packing.bed.pellets[0].type_index = 3;
+    let bad = encode_packing(&packing).unwrap();
+    assert!(decode_packing(&bad, "p").unwrap_err().to_string().contains("pellet types"));
+}
