@@ -38,6 +38,30 @@
 //! so the file alone is enough), and every pellet's type index, centroid
 //! position (m) and unit quaternion (w, x, y, z) mapping body to world.
 //!
+//! # The trajectory (`.mcap`)
+//!
+//! Written by `pack`, read by `settle-check`: an [MCAP](https://mcap.dev)
+//! file, zstd-compressed 1 MiB chunks with a summary and indexes, header
+//! profile `packbed/1`. In order:
+//!
+//! - metadata record `packbed.run`: `tool`, `version`, `args`, `seed`,
+//!   `units` (SI) and `config` (the full run configuration as JSON);
+//! - attachments `pellet-<i>.pellet` (the pellet files, byte for byte) and
+//!   `tube.json` (`{"diameter_m": …, "lid_height_m": … | null}`), so the
+//!   file alone is enough to analyse the bed;
+//! - channel `/pack/poses`, schema `packbed.Frame.v1`: a [`Frame`] every
+//!   recorded interval (time, type index, positions in m, unit quaternions
+//!   w, x, y, z, optional velocities);
+//! - channel `/pack/energy`, schema `packbed.EnergyRecord.v1`: an
+//!   [`EnergyRecord`] every step (kinetic, potential and dissipated energies
+//!   in J, contact counts, solver residual, max penetration in m).
+//!
+//! Both channels use message encoding `x-packbed-bincode2-v1`: bincode 2
+//! with the standard configuration and fixed-width little-endian integers,
+//! serde layout of the Rust types. Log times are simulated nanoseconds.
+//! `pack` writes to `<name>.part` and renames it when done; a killed run
+//! leaves the `.part` file, readable up to its last complete chunk.
+//!
 //! # Meshes
 //!
 //! STL (binary or ASCII) and Wavefront OBJ are read into
@@ -50,6 +74,7 @@ mod atomic;
 mod mesh_files;
 mod packing_file;
 mod pellet_file;
+mod trajectory;
 
 pub use atomic::{read_input, write_outputs, OutputFile};
 pub use mesh_files::{obj_bytes, read_mesh, stl_bytes, MeshFormat};
@@ -57,6 +82,10 @@ pub use packing_file::{
     decode_packing, encode_packing, PackingFile, SettleVerdict, PACKING_FORMAT_VERSION, PACKING_MAGIC,
 };
 pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELLET_FORMAT_VERSION, PELLET_MAGIC};
+pub use trajectory::{
+    read_trajectory, EnergyRecord, Frame, Trajectory, TrajectoryHeader, TrajectoryWriter, ENERGY_TOPIC,
+    MESSAGE_ENCODING, POSES_TOPIC, RUN_METADATA, TRAJECTORY_PROFILE,
+};
 
 /// What can go wrong reading or writing packbed's files.
 #[derive(Debug, thiserror::Error)]

@@ -1,0 +1,366 @@
+//! The `.mcap` trajectory archive written by `pack` (see the crate doc).
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use pellet_geom::Tube;
+
+use crate::pellet_file::Provenance;
+use crate::IoError;
+
+/// MCAP header profile of packbed trajectories.
+pub const TRAJECTORY_PROFILE: &str = "packbed/1";
+/// Message encoding of packbed's channels: bincode 2, standard config, fixed-width LE integers.
+pub const MESSAGE_ENCODING: &str = "x-packbed-bincode2-v1";
+/// Topic of the pose frames.
+pub const POSES_TOPIC: &str = "/pack/poses";
+/// Topic of the per-step energy records.
+pub const ENERGY_TOPIC: &str = "/pack/energy";
+/// Schema name of [`Frame`].
+pub const FRAME_SCHEMA: &str = "packbed.Frame.v1";
+/// Schema name of [`EnergyRecord`].
+pub const ENERGY_SCHEMA: &str = "packbed.EnergyRecord.v1";
+/// Name of the metadata record holding the run configuration.
+pub const RUN_METADATA: &str = "packbed.run";
+/// Attachment name of the tube description (JSON).
+pub const TUBE_ATTACHMENT: &str = "tube.json";
+
+/// Every pellet's pose at one time. Positions in m, quaternions (w, x, y, z) body → world.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Frame {
+    /// Simulated time (s).
+    pub time_s: f64,
+    /// Pellet type of each pellet (index into the attached pellet files).
+    pub type_index: Vec<u32>,
+    /// Centroid positions (m).
+    pub positions: Vec<[f64; 3]>,
+    /// Orientations, unit quaternions (w, x, y, z).
+    pub orientations: Vec<[f64; 4]>,
+    /// Linear and angular velocities (m/s, rad/s), when recorded.
+    pub velocities: Option<Vec<[f64; 6]>>,
+}
+
+/// The state of the run after one step.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct EnergyRecord {
+    /// Simulated time (s).
+    pub time_s: f64,
+    /// Pellets in the tube.
+    pub pellets: u32,
+    /// Translational kinetic energy (J).
+    pub kinetic_translational_j: f64,
+    /// Rotational kinetic energy (J).
+    pub kinetic_rotational_j: f64,
+    /// Gravitational potential energy relative to z = 0 (J).
+    pub potential_j: f64,
+    /// Energy removed by collisions so far (J).
+    pub dissipated_collisions_j: f64,
+    /// Energy removed by friction so far (J).
+    pub dissipated_friction_j: f64,
+    /// Energy changed by position projection so far (J).
+    pub projection_j: f64,
+    /// Colliding contacts in the step.
+    pub colliding_contacts: u32,
+    /// Resting contacts in the step.
+    pub resting_contacts: u32,
+    /// Substeps taken in the step.
+    pub substeps: u32,
+    /// Largest resting-contact solver residual in the step (m/s²).
+    pub solver_residual: f64,
+    /// Solver iterations in the step.
+    pub solver_iterations: u32,
+    /// Largest penetration at the end of the step (m).
+    pub max_penetration_m: f64,
+    /// Fastest pellet's speed (m/s).
+    pub max_speed_m_s: f64,
+}
+
+impl EnergyRecord {
+    /// Total kinetic energy (J).
+    pub fn kinetic_j(&self) -> f64 {
+        self.kinetic_translational_j + self.kinetic_rotational_j
+    }
+}
+
+fn config() -> impl bincode::config::Config {
+    bincode::config::standard().with_fixed_int_encoding().with_little_endian().with_limit::<{ 1 << 31 }>()
+}
+
+fn encode<T: Serialize>(value: &T, buf: &mut Vec<u8>) -> Result<(), IoError> {
+    buf.clear();
+    bincode::serde::encode_into_std_write(value, buf, config())
+        .map(|_| ())
+        .map_err(|e| IoError::Corrupt { path: "<mcap>".into(), reason: format!("cannot encode: {e}") })
+}
+
+fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8], path: &str, what: &str) -> Result<T, IoError> {
+    bincode::serde::decode_from_slice(bytes, config())
+        .map(|(v, _)| v)
+        .map_err(|e| IoError::Corrupt { path: path.into(), reason: format!("undecodable {what} message: {e}") })
+}
+
+fn mcap_error(path: &Path) -> impl Fn(mcap::McapError) -> IoError {
+    let path = path.display().to_string();
+    move |e| IoError::Corrupt { path: path.clone(), reason: format!("MCAP: {e}") }
+}
+
+/// What goes at the start of a trajectory.
+pub struct TrajectoryHeader<'a> {
+    /// Who is writing it and with which arguments.
+    pub provenance: &'a Provenance,
+    /// The full run configuration as a JSON object (SI units).
+    pub config_json: &'a str,
+    /// The random seed.
+    pub seed: u64,
+    /// The pellet files (bytes of `.pellet` files), one per pellet type.
+    pub pellet_files: &'a [Vec<u8>],
+    /// The container.
+    pub tube: &'a Tube,
+}
+
+/// Streams a trajectory to `<path>.part` and renames it to `<path>` when
+/// finished, so a completed file never coexists with a partial one under
+/// the final name. Chunks are flushed as they fill: a killed run leaves a
+/// `.part` file readable up to its last complete chunk.
+pub struct TrajectoryWriter {
+    writer: Option<mcap::Writer<BufWriter<File>>>,
+    part_path: PathBuf,
+    final_path: PathBuf,
+    poses_channel: u16,
+    energy_channel: u16,
+    poses_sequence: u32,
+    energy_sequence: u32,
+    buf: Vec<u8>,
+}
+
+/// Simulated seconds → MCAP log time (ns).
+fn log_time(time_s: f64) -> u64 {
+    (time_s.max(0.0) * 1e9).round() as u64
+}
+
+impl TrajectoryWriter {
+    /// Creates `<path>.part` and writes the header records.
+    pub fn create(path: &Path, header: &TrajectoryHeader) -> Result<Self, IoError> {
+        let mut part = path.as_os_str().to_owned();
+        part.push(".part");
+        let part_path = PathBuf::from(part);
+        let err = mcap_error(&part_path);
+        let file =
+            File::create(&part_path).map_err(|source| IoError::Io { path: part_path.display().to_string(), source })?;
+        let options = mcap::WriteOptions::new()
+            .compression(Some(mcap::Compression::Zstd))
+            .chunk_size(Some(1 << 20))
+            // Pinned: zstd's single- and multi-threaded modes give different bytes.
+            .compression_threads(1)
+            .profile(TRAJECTORY_PROFILE)
+            .library(format!("packbed {}", header.provenance.version));
+        let mut writer = mcap::Writer::with_options(BufWriter::new(file), options).map_err(&err)?;
+        let mut meta = BTreeMap::new();
+        meta.insert("tool".to_string(), header.provenance.tool.clone());
+        meta.insert("version".to_string(), header.provenance.version.clone());
+        meta.insert("args".to_string(), header.provenance.args.join(" "));
+        meta.insert("seed".to_string(), header.seed.to_string());
+        meta.insert("units".to_string(), "SI (m, kg, s, J)".to_string());
+        meta.insert("config".to_string(), header.config_json.to_string());
+        writer.write_metadata(&mcap::records::Metadata { name: RUN_METADATA.into(), metadata: meta }).map_err(&err)?;
+        for (i, bytes) in header.pellet_files.iter().enumerate() {
+            writer
+                .attach(&mcap::Attachment {
+                    log_time: 0,
+                    create_time: 0,
+                    name: format!("pellet-{i}.pellet"),
+                    media_type: "application/x-packbed-pellet".into(),
+                    data: std::borrow::Cow::Borrowed(bytes),
+                })
+                .map_err(&err)?;
+        }
+        let tube_json = tube_json(header.tube);
+        writer
+            .attach(&mcap::Attachment {
+                log_time: 0,
+                create_time: 0,
+                name: TUBE_ATTACHMENT.into(),
+                media_type: "application/json".into(),
+                data: std::borrow::Cow::Owned(tube_json.into_bytes()),
+            })
+            .map_err(&err)?;
+        let frame_schema = writer
+            .add_schema(FRAME_SCHEMA, MESSAGE_ENCODING, b"packbed Frame: see the pellet_io crate documentation")
+            .map_err(&err)?;
+        let energy_schema = writer
+            .add_schema(ENERGY_SCHEMA, MESSAGE_ENCODING, b"packbed EnergyRecord: see the pellet_io crate documentation")
+            .map_err(&err)?;
+        let none = BTreeMap::new();
+        let poses_channel = writer.add_channel(frame_schema, POSES_TOPIC, MESSAGE_ENCODING, &none).map_err(&err)?;
+        let energy_channel = writer.add_channel(energy_schema, ENERGY_TOPIC, MESSAGE_ENCODING, &none).map_err(&err)?;
+        Ok(TrajectoryWriter {
+            writer: Some(writer),
+            part_path,
+            final_path: path.to_path_buf(),
+            poses_channel,
+            energy_channel,
+            poses_sequence: 0,
+            energy_sequence: 0,
+            buf: Vec::with_capacity(1 << 16),
+        })
+    }
+
+    fn write(&mut self, channel: u16, sequence: u32, time_s: f64) -> Result<(), IoError> {
+        let err = mcap_error(&self.part_path);
+        let writer = self.writer.as_mut().ok_or_else(|| err(mcap::McapError::UnexpectedEof))?;
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence,
+            log_time: log_time(time_s),
+            publish_time: log_time(time_s),
+        };
+        writer.write_to_known_channel(&header, &self.buf).map_err(&err)
+    }
+
+    /// Appends a pose frame.
+    pub fn write_frame(&mut self, frame: &Frame) -> Result<(), IoError> {
+        encode(frame, &mut self.buf)?;
+        self.poses_sequence += 1;
+        self.write(self.poses_channel, self.poses_sequence, frame.time_s)
+    }
+
+    /// Appends an energy record.
+    pub fn write_energy(&mut self, record: &EnergyRecord) -> Result<(), IoError> {
+        encode(record, &mut self.buf)?;
+        self.energy_sequence += 1;
+        self.write(self.energy_channel, self.energy_sequence, record.time_s)
+    }
+
+    /// Closes the current chunk so that everything written so far survives a kill.
+    pub fn flush(&mut self) -> Result<(), IoError> {
+        let err = mcap_error(&self.part_path);
+        match self.writer.as_mut() {
+            Some(w) => w.flush().map_err(err),
+            None => Ok(()),
+        }
+    }
+
+    /// Writes the summary and footer, then renames `<path>.part` to `<path>`.
+    pub fn finish(mut self) -> Result<PathBuf, IoError> {
+        let err = mcap_error(&self.part_path);
+        if let Some(mut w) = self.writer.take() {
+            w.finish().map_err(&err)?;
+            let mut inner = w.into_inner();
+            use std::io::Write;
+            inner.flush().map_err(|source| IoError::Io { path: self.part_path.display().to_string(), source })?;
+        }
+        std::fs::rename(&self.part_path, &self.final_path)
+            .map_err(|source| IoError::Io { path: self.final_path.display().to_string(), source })?;
+        Ok(self.final_path.clone())
+    }
+
+    /// The temporary path being written.
+    pub fn part_path(&self) -> &Path {
+        &self.part_path
+    }
+}
+
+/// The tube attachment's JSON form, units in the key names.
+#[derive(Serialize, Deserialize)]
+struct TubeJson {
+    diameter_m: f64,
+    lid_height_m: Option<f64>,
+}
+
+fn tube_json(tube: &Tube) -> String {
+    serde_json::to_string(&TubeJson { diameter_m: tube.diameter, lid_height_m: tube.lid_height }).unwrap_or_default()
+}
+
+/// A trajectory read back: the header records, every energy record, and
+/// every frame's time with where to find it.
+pub struct Trajectory {
+    /// The `packbed.run` metadata (tool, version, args, seed, units, config).
+    pub run: BTreeMap<String, String>,
+    /// The attached pellet files' bytes, by type index.
+    pub pellet_files: Vec<Vec<u8>>,
+    /// The tube.
+    pub tube: Option<Tube>,
+    /// Every energy record, in time order.
+    pub energy: Vec<EnergyRecord>,
+    /// Every pose frame, in time order.
+    pub frames: Vec<Frame>,
+    /// Why reading stopped early, for a truncated file (a killed run).
+    pub truncated: Option<String>,
+}
+
+/// Reads a whole trajectory from its bytes. A truncated file (a killed
+/// run) yields everything up to its last complete chunk, with
+/// `truncated` saying so; a file that is not MCAP at all is an error.
+pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> {
+    use mcap::records::Record;
+    let p = Path::new(path);
+    if bytes.len() < 8 || &bytes[..8] != mcap::MAGIC {
+        return Err(IoError::Corrupt {
+            path: path.into(),
+            reason: "not an MCAP file (bad magic); `pack` writes trajectories".into(),
+        });
+    }
+    let reader = mcap::read::ChunkFlattener::new_with_options(bytes, mcap::read::Options::IgnoreEndMagic.into())
+        .map_err(mcap_error(p))?;
+    let mut out = Trajectory {
+        run: BTreeMap::new(),
+        pellet_files: Vec::new(),
+        tube: None,
+        energy: Vec::new(),
+        frames: Vec::new(),
+        truncated: None,
+    };
+    let mut topics: BTreeMap<u16, String> = BTreeMap::new();
+    let mut profile_ok = false;
+    for record in reader {
+        let record = match record {
+            Ok(r) => r,
+            Err(e) => {
+                out.truncated = Some(e.to_string());
+                break;
+            }
+        };
+        match record {
+            Record::Header(h) => profile_ok = h.profile == TRAJECTORY_PROFILE,
+            Record::Metadata(m) if m.name == RUN_METADATA => out.run = m.metadata,
+            Record::Attachment { header, data, .. } => {
+                if header.name == TUBE_ATTACHMENT {
+                    out.tube = parse_tube(&data);
+                } else if let Some(i) = header.name.strip_prefix("pellet-").and_then(|s| s.strip_suffix(".pellet")) {
+                    let i: usize = i.parse().unwrap_or(usize::MAX);
+                    if i < 4096 {
+                        if out.pellet_files.len() <= i {
+                            out.pellet_files.resize(i + 1, Vec::new());
+                        }
+                        out.pellet_files[i] = data.into_owned();
+                    }
+                }
+            }
+            Record::Channel(c) => {
+                topics.insert(c.id, c.topic.clone());
+            }
+            Record::Message { header, data } => match topics.get(&header.channel_id).map(String::as_str) {
+                Some(POSES_TOPIC) => out.frames.push(decode(&data, path, "pose")?),
+                Some(ENERGY_TOPIC) => out.energy.push(decode(&data, path, "energy")?),
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+    if !profile_ok {
+        return Err(IoError::Corrupt {
+            path: path.into(),
+            reason: format!("not a packbed trajectory (MCAP profile is not {TRAJECTORY_PROFILE:?})"),
+        });
+    }
+    Ok(out)
+}
+
+fn parse_tube(data: &[u8]) -> Option<Tube> {
+    let t: TubeJson = serde_json::from_slice(data).ok()?;
+    Some(Tube { diameter: t.diameter_m, lid_height: t.lid_height_m })
+}

@@ -1,0 +1,252 @@
+//! When is a bed settled? The kinetic-energy termination test of the
+//! paper (the total kinetic energy stops changing over a time window),
+//! made robust as physics.md §8.1 advises: with frictionless resting
+//! contacts a spinning pellet keeps its energy forever and a sliding one
+//! keeps it until it hits something, so "ΔKE ≈ 0" alone can stop a run
+//! too early. A time t is settled when, over the window [t − w, t]:
+//!
+//! 1. no pellet was added (the pellet count is final and constant),
+//! 2. the kinetic energy varies by at most `relative_tolerance` × its
+//!    largest value in the window (or by at most the energy floor),
+//! 3. the kinetic energy at t is at most `ke_bound_j`, and
+//! 4. the fastest pellet moves at most `max_speed_m_s`.
+//!
+//! `pack` runs this test on the fly to decide when to stop, and
+//! `settle-check` runs the same code on the recorded energy channel.
+#![deny(missing_docs)]
+
+use serde::{Deserialize, Serialize};
+
+/// One sample of the run's energy history.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnergySample {
+    /// Simulated time (s).
+    pub time_s: f64,
+    /// Total kinetic energy (J).
+    pub kinetic_j: f64,
+    /// Fastest pellet's translational speed (m/s).
+    pub max_speed_m_s: f64,
+    /// Pellets in the tube.
+    pub pellets: u32,
+}
+
+/// The test's thresholds.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SettleCriteria {
+    /// Window length w (s).
+    pub window_s: f64,
+    /// Allowed variation of KE over the window, as a fraction of its maximum there.
+    pub relative_tolerance: f64,
+    /// Bound on the kinetic energy itself (J).
+    pub ke_bound_j: f64,
+    /// Bound on the fastest pellet's speed (m/s).
+    pub max_speed_m_s: f64,
+}
+
+impl SettleCriteria {
+    /// physics.md §8.1's values: window 0.15 s, |ΔKE| ≤ 1e-3 KE, KE ≤ 1e-7·N·m·g·d,
+    /// speed ≤ 1 mm/s, for `pellets` pellets of mass `mass_kg` and size `size_m`.
+    pub fn recommended(pellets: u32, mass_kg: f64, size_m: f64) -> Self {
+        SettleCriteria {
+            window_s: 0.15,
+            relative_tolerance: 1e-3,
+            ke_bound_j: 1e-7 * pellets.max(1) as f64 * mass_kg * 9.81 * size_m,
+            max_speed_m_s: 1e-3,
+        }
+    }
+
+    /// Checks that every threshold is finite and positive.
+    pub fn validate(&self) -> Result<(), String> {
+        let checks = [
+            ("--settle-window", self.window_s, "s"),
+            ("--settle-tolerance", self.relative_tolerance, ""),
+            ("--ke-bound", self.ke_bound_j, "J"),
+            ("--max-speed", self.max_speed_m_s, "m/s"),
+        ];
+        for (flag, v, unit) in checks {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{flag} must be a finite number > 0 {unit} (got {v})"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What the test found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SettleReport {
+    /// Whether some time passed every criterion.
+    pub settled: bool,
+    /// The first such time (s).
+    pub settle_time_s: Option<f64>,
+    /// Index of that sample in the history.
+    pub settle_index: Option<usize>,
+    /// Time of the last sample (s).
+    pub final_time_s: f64,
+    /// Kinetic energy of the last sample (J).
+    pub final_kinetic_j: f64,
+    /// Relative KE variation over the window ending at the last sample.
+    pub final_relative_change: f64,
+    /// Fastest pellet's speed at the last sample (m/s).
+    pub final_max_speed_m_s: f64,
+    /// Which criterion failed at the last sample, if the bed is not settled.
+    pub reason: Option<String>,
+}
+
+/// Runs the test over a time-ordered energy history.
+pub fn check_settled(history: &[EnergySample], criteria: &SettleCriteria) -> SettleReport {
+    let Some(last) = history.last() else {
+        return SettleReport {
+            settled: false,
+            settle_time_s: None,
+            settle_index: None,
+            final_time_s: 0.0,
+            final_kinetic_j: 0.0,
+            final_relative_change: f64::INFINITY,
+            final_max_speed_m_s: 0.0,
+            reason: Some("the energy history is empty".into()),
+        };
+    };
+    let final_count = last.pellets;
+    let mut first_settled = None;
+    let mut verdict_at_end = None;
+    // Sliding window [start, i]: two pointers keep the scan linear.
+    let mut start = 0;
+    for (i, s) in history.iter().enumerate() {
+        while history[start].time_s < s.time_s - criteria.window_s {
+            start += 1;
+        }
+        let verdict = window_verdict(&history[start..=i], history[0].time_s, criteria, final_count);
+        if verdict.is_ok() && first_settled.is_none() {
+            first_settled = Some(i);
+        }
+        if i + 1 == history.len() {
+            verdict_at_end = Some(verdict);
+        }
+    }
+    let window_start = history.iter().position(|s| s.time_s >= last.time_s - criteria.window_s).unwrap_or(0);
+    let (lo, hi) = min_max(&history[window_start..]);
+    SettleReport {
+        settled: first_settled.is_some(),
+        settle_time_s: first_settled.map(|i| history[i].time_s),
+        settle_index: first_settled,
+        final_time_s: last.time_s,
+        final_kinetic_j: last.kinetic_j,
+        final_relative_change: if hi > 0.0 { (hi - lo) / hi } else { 0.0 },
+        final_max_speed_m_s: last.max_speed_m_s,
+        reason: match (first_settled, verdict_at_end) {
+            (Some(_), _) => None,
+            (None, Some(Err(why))) => Some(why),
+            (None, _) => Some("no window passed every criterion".into()),
+        },
+    }
+}
+
+fn min_max(window: &[EnergySample]) -> (f64, f64) {
+    window.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), s| (lo.min(s.kinetic_j), hi.max(s.kinetic_j)))
+}
+
+fn window_verdict(window: &[EnergySample], t0: f64, c: &SettleCriteria, final_count: u32) -> Result<(), String> {
+    let now = window[window.len() - 1];
+    if now.time_s - t0 < c.window_s {
+        return Err(format!("the run is shorter than the window ({:.3} s < {} s)", now.time_s - t0, c.window_s));
+    }
+    if window.iter().any(|s| s.pellets != final_count) {
+        return Err("pellets were still being added during the window".into());
+    }
+    let (lo, hi) = min_max(window);
+    if hi - lo > c.relative_tolerance * hi && hi - lo > c.ke_bound_j * c.relative_tolerance {
+        return Err(format!(
+            "kinetic energy still changes by {:.3e} of its value over {} s (tolerance {:.1e})",
+            (hi - lo) / hi,
+            c.window_s,
+            c.relative_tolerance
+        ));
+    }
+    if now.kinetic_j > c.ke_bound_j {
+        return Err(format!("kinetic energy {:.3e} J is above the bound {:.3e} J", now.kinetic_j, c.ke_bound_j));
+    }
+    if now.max_speed_m_s > c.max_speed_m_s {
+        return Err(format!(
+            "a pellet still moves at {:.3e} m/s (bound {:.1e} m/s)",
+            now.max_speed_m_s, c.max_speed_m_s
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn criteria() -> SettleCriteria {
+        SettleCriteria { window_s: 0.1, relative_tolerance: 1e-3, ke_bound_j: 1e-6, max_speed_m_s: 1e-3 }
+    }
+
+    /// KE decaying as e^(−t/τ): settled once the window's relative change
+    /// 1 − e^(−w/τ) ... is below tolerance is impossible for pure decay, so
+    /// the energy bound and the floor decide; check the exact crossing time.
+    #[test]
+    fn decaying_energy_settles_when_it_drops_below_the_bound() {
+        let dt = 1e-3;
+        let history: Vec<EnergySample> = (0..2000)
+            .map(|k| {
+                let t = k as f64 * dt;
+                EnergySample { time_s: t, kinetic_j: 1e-3 * (-t / 0.05).exp(), max_speed_m_s: 0.0, pellets: 10 }
+            })
+            .collect();
+        let report = check_settled(&history, &criteria());
+        assert!(report.settled);
+        // KE ≤ 1e-6 J from t = 0.05·ln(1000) = 0.3454 s; the window's absolute change
+        // is then below 1e-9 J (the floor) only once KE(t − w) − KE(t) ≤ 1e-9, i.e.
+        // KE(t)·(e^(w/τ) − 1) ≤ 1e-9 → KE(t) ≤ 1e-9 / (e² − 1) → t ≥ 0.05·ln(1e-3·(e²−1)/1e-9).
+        let expected = 0.05 * (1e-3 * ((2.0f64).exp() - 1.0) / 1e-9).ln();
+        let t = report.settle_time_s.unwrap();
+        assert!((t - expected).abs() <= 2.0 * dt, "settled at {t}, expected {expected}");
+    }
+
+    #[test]
+    fn constant_spin_is_settled_but_sliding_is_not() {
+        // A pellet spinning in place: constant KE (above the bound), zero speed.
+        let spin: Vec<EnergySample> = (0..300)
+            .map(|k| EnergySample { time_s: k as f64 * 1e-3, kinetic_j: 5e-7, max_speed_m_s: 0.0, pellets: 1 })
+            .collect();
+        let r = check_settled(&spin, &criteria());
+        assert!(r.settled);
+        assert!((r.settle_time_s.unwrap() - 0.1).abs() < 1.5e-3);
+        // Sliding at constant speed: constant KE but the speed criterion fails.
+        let slide: Vec<EnergySample> = spin.iter().map(|s| EnergySample { max_speed_m_s: 0.01, ..*s }).collect();
+        let r = check_settled(&slide, &criteria());
+        assert!(!r.settled);
+        assert!(r.reason.unwrap().contains("moves at"));
+    }
+
+    #[test]
+    fn a_pellet_added_inside_the_window_defers_settling() {
+        let history: Vec<EnergySample> = (0..400)
+            .map(|k| {
+                let t = k as f64 * 1e-3;
+                EnergySample { time_s: t, kinetic_j: 0.0, max_speed_m_s: 0.0, pellets: if t < 0.2 { 4 } else { 5 } }
+            })
+            .collect();
+        let r = check_settled(&history, &criteria());
+        assert!(r.settled);
+        assert!(r.settle_time_s.unwrap() >= 0.3 - 1e-9, "{:?}", r.settle_time_s);
+    }
+
+    #[test]
+    fn short_or_empty_histories_are_not_settled() {
+        assert!(!check_settled(&[], &criteria()).settled);
+        let short = [EnergySample { time_s: 0.0, kinetic_j: 0.0, max_speed_m_s: 0.0, pellets: 1 }];
+        let r = check_settled(&short, &criteria());
+        assert!(!r.settled);
+        assert!(r.reason.unwrap().contains("shorter than the window"));
+    }
+
+    #[test]
+    fn bad_criteria_name_the_flag() {
+        let mut c = criteria();
+        c.window_s = -1.0;
+        assert!(c.validate().unwrap_err().contains("--settle-window"));
+    }
+}

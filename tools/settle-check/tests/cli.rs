@@ -1,0 +1,148 @@
+//! `settle-check` at the process boundary, on trajectories written in the test.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use pellet_geom::{Pellet, Resolution, ShapeSpec, Tube};
+use pellet_io::{EnergyRecord, Frame, Provenance, TrajectoryHeader, TrajectoryWriter};
+
+fn settle_check(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_settle-check")).args(args).current_dir(dir).output().expect("run settle-check")
+}
+
+/// A sphere dropped at t = 0 whose kinetic energy decays to rest by `rest_at`
+/// (or never, if `None`), frames every 0.05 s, energy every 1 ms, for 1 s.
+fn write_trajectory(path: &Path, rest_at: Option<f64>) {
+    let pellet = Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution { level: 0, faces: None }).unwrap();
+    let pellet_bytes = pellet_io::encode_pellet(&pellet_io::PelletFile {
+        length_unit: "m".into(),
+        provenance: Provenance { tool: "test".into(), version: "0".into(), args: vec![] },
+        pellet,
+    })
+    .unwrap();
+    let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
+    let tube = Tube { diameter: 0.04, lid_height: None };
+    let files = [pellet_bytes];
+    let header = TrajectoryHeader {
+        provenance: &provenance,
+        config_json: r#"{"density_kg_m3": 8030.0}"#,
+        seed: 1,
+        pellet_files: &files,
+        tube: &tube,
+    };
+    let mut w = TrajectoryWriter::create(path, &header).unwrap();
+    for k in 0..=1000 {
+        let t = k as f64 * 1e-3;
+        let moving = rest_at.is_none_or(|r| t < r);
+        let ke = if moving { 1e-3 * (2.0 - t) } else { 0.0 };
+        let z = 0.005 + if moving { 0.01 * (1.0 - t) } else { 0.0 };
+        w.write_energy(&EnergyRecord {
+            time_s: t,
+            pellets: 1,
+            kinetic_translational_j: ke,
+            max_speed_m_s: if moving { 0.1 } else { 0.0 },
+            ..Default::default()
+        })
+        .unwrap();
+        if k % 100 == 99 {
+            // As pack does: close the chunk so a killed run keeps it.
+            w.flush().unwrap();
+        }
+        if k % 50 == 0 {
+            w.write_frame(&Frame {
+                time_s: t,
+                type_index: vec![0],
+                positions: vec![[0.001, -0.002, z]],
+                orientations: vec![[1.0, 0.0, 0.0, 0.0]],
+                velocities: None,
+            })
+            .unwrap();
+        }
+    }
+    w.finish().unwrap();
+}
+
+#[test]
+fn a_settled_run_gives_exit_0_and_the_settled_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    write_trajectory(&dir.path().join("bed.mcap"), Some(0.4));
+    let out = settle_check(dir.path(), &["bed.mcap", "-o", "bed.packing", "--csv", "poses.csv"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    // At rest from 0.4 s; the 0.15 s window is quiet from 0.55 s.
+    assert!(text.contains("settled at 0.5500 s"), "{text}");
+    let packing = pellet_io::decode_packing(&std::fs::read(dir.path().join("bed.packing")).unwrap(), "p").unwrap();
+    assert_eq!(packing.bed.pellets.len(), 1);
+    assert!((packing.time_s - 0.55).abs() < 1e-9);
+    assert_eq!(packing.bed.pellets[0].position, [0.001, -0.002, 0.005]);
+    assert!(packing.verdict.unwrap().settled);
+    let csv = std::fs::read_to_string(dir.path().join("poses.csv")).unwrap();
+    assert_eq!(csv.lines().next(), Some("id,x,y,z,qw,qx,qy,qz"));
+    assert_eq!(csv.lines().nth(1), Some("0,1,-2,5,1,0,0,0"));
+}
+
+#[test]
+fn an_unsettled_run_exits_1_and_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    write_trajectory(&dir.path().join("bed.mcap"), None);
+    let out = settle_check(dir.path(), &["bed.mcap", "--json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["settled"], false);
+    // Energy still falls linearly, by 0.15/1.15 of its value per window.
+    assert!(v["reason"].as_str().unwrap().contains("kinetic energy still changes"), "{v}");
+}
+
+#[test]
+fn at_and_all_frames_pick_frames_by_time() {
+    let dir = tempfile::tempdir().unwrap();
+    write_trajectory(&dir.path().join("bed.mcap"), Some(0.4));
+    let out = settle_check(dir.path(), &["bed.mcap", "--at", "0.26", "-o", "t.packing"]);
+    assert_eq!(out.status.code(), Some(0));
+    let p = pellet_io::decode_packing(&std::fs::read(dir.path().join("t.packing")).unwrap(), "t").unwrap();
+    assert!((p.time_s - 0.25).abs() < 1e-9);
+    let out = settle_check(dir.path(), &["bed.mcap", "--all-frames", "--csv", "all.csv"]);
+    assert_eq!(out.status.code(), Some(0));
+    let csv = std::fs::read_to_string(dir.path().join("all.csv")).unwrap();
+    assert_eq!(csv.lines().next(), Some("time,id,x,y,z,qw,qx,qy,qz"));
+    assert_eq!(csv.lines().count(), 1 + 21);
+}
+
+#[test]
+fn a_truncated_trajectory_is_read_up_to_its_last_chunk() {
+    let dir = tempfile::tempdir().unwrap();
+    write_trajectory(&dir.path().join("bed.mcap"), Some(0.4));
+    let bytes = std::fs::read(dir.path().join("bed.mcap")).unwrap();
+    std::fs::write(dir.path().join("cut.mcap"), &bytes[..bytes.len() * 2 / 3]).unwrap();
+    let out = settle_check(dir.path(), &["cut.mcap"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(matches!(out.status.code(), Some(0) | Some(1)), "{err}");
+    assert!(err.contains("is truncated"), "{err}");
+    let v = settle_check(dir.path(), &["cut.mcap", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&v.stdout).unwrap();
+    // Some but not all of the 1 s run survived.
+    let t = v["final_time_s"].as_f64().unwrap();
+    assert!(t > 0.2 && t < 1.0, "final time {t}");
+}
+
+#[test]
+fn bad_input_is_a_one_line_error_with_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("junk.mcap"), b"definitely not an mcap file").unwrap();
+    for (args, needle) in [
+        (vec!["junk.mcap"], "not an MCAP file"),
+        (vec!["missing.mcap"], "missing.mcap"),
+        (vec!["junk.mcap", "--settle-window", "-1"], "not an MCAP"),
+    ] {
+        let out = settle_check(dir.path(), &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(needle), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    }
+    write_trajectory(&dir.path().join("bed.mcap"), Some(0.4));
+    let out = settle_check(dir.path(), &["bed.mcap", "--settle-window", "-1", "-o", "x.packing"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--settle-window must be"));
+    assert!(!dir.path().join("x.packing").exists());
+}
