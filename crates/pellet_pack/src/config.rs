@@ -1,0 +1,280 @@
+//! Every parameter of a `pack` run, from flags and case files.
+//!
+//! [`PackOptions`] holds what the user typed (mm, s, degrees; every field
+//! optional); a case file (TOML or JSON, keys spelled like the flags:
+//! `tube-diameter = 69.83`) gives one, the command line another, and
+//! [`PackOptions::overlay`] lets the flags win. [`PackConfig::resolve`]
+//! fills in the defaults — the paper's validation values — checks every
+//! range and converts to SI.
+
+use serde::{Deserialize, Serialize};
+
+use crate::loading::LoadingScheme;
+use crate::ConfigError;
+
+/// Parameters as typed (lengths in mm, times in s, angles in degrees).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", deny_unknown_fields)]
+pub struct PackOptions {
+    /// Pellet file.
+    pub pellet: Option<String>,
+    /// Output trajectory.
+    pub output: Option<String>,
+    /// Tube inner diameter (mm).
+    pub tube_diameter: Option<f64>,
+    /// Number of pellets.
+    pub count: Option<u32>,
+    /// Fill until the settled bed reaches this height (mm).
+    pub fill_height: Option<f64>,
+    /// Random seed.
+    pub seed: Option<u64>,
+    /// Pellet–pellet coefficient of restitution.
+    pub cor: Option<f64>,
+    /// Pellet–pellet friction coefficient.
+    pub friction: Option<f64>,
+    /// Pellet–wall and pellet–floor coefficient of restitution.
+    pub wall_cor: Option<f64>,
+    /// Pellet–wall and pellet–floor friction coefficient.
+    pub wall_friction: Option<f64>,
+    /// Pellet density (kg/m³).
+    pub density: Option<f64>,
+    /// Height of a new pellet's centre above the bed top (mm).
+    pub drop_height: Option<f64>,
+    /// Interval between recorded pose frames (s).
+    pub record_every: Option<f64>,
+    /// Simulated time limit (s).
+    pub max_time: Option<f64>,
+    /// Loading scheme.
+    pub scheme: Option<LoadingScheme>,
+    /// Tilt of the pellet axis from vertical in the column schemes (degrees).
+    pub tilt: Option<f64>,
+    /// Largest horizontal disturbance of the entry point (fraction of dp).
+    pub position_jitter: Option<f64>,
+    /// Largest disturbance of the entry orientation (degrees).
+    pub angle_jitter: Option<f64>,
+    /// Shortest time between two pellets entering (s).
+    pub spacing: Option<f64>,
+    /// Settle-test window (s).
+    pub settle_window: Option<f64>,
+    /// Settle-test relative tolerance on the kinetic-energy change.
+    pub settle_tolerance: Option<f64>,
+    /// Settle-test bound on the fastest pellet's speed (m/s).
+    pub max_speed: Option<f64>,
+    /// Record velocities in the pose frames.
+    pub record_velocities: Option<bool>,
+}
+
+macro_rules! overlay_fields {
+    ($base:ident, $over:ident, $($f:ident),*) => {
+        PackOptions { $($f: $over.$f.or($base.$f)),* }
+    };
+}
+
+impl PackOptions {
+    /// Parses a case file: JSON if it starts with `{`, TOML otherwise.
+    pub fn from_case_file(text: &str, name: &str) -> Result<Self, ConfigError> {
+        if text.trim_start().starts_with('{') {
+            serde_json::from_str(text).map_err(|e| ConfigError(format!("{name}: bad JSON case file: {e}")))
+        } else {
+            toml::from_str(text).map_err(|e| ConfigError(format!("{name}: bad TOML case file: {}", e.message())))
+        }
+    }
+
+    /// `self` with every field that `over` sets replaced by `over`'s.
+    pub fn overlay(self, over: PackOptions) -> PackOptions {
+        let base = self;
+        overlay_fields!(
+            base,
+            over,
+            pellet,
+            output,
+            tube_diameter,
+            count,
+            fill_height,
+            seed,
+            cor,
+            friction,
+            wall_cor,
+            wall_friction,
+            density,
+            drop_height,
+            record_every,
+            max_time,
+            scheme,
+            tilt,
+            position_jitter,
+            angle_jitter,
+            spacing,
+            settle_window,
+            settle_tolerance,
+            max_speed,
+            record_velocities
+        )
+    }
+}
+
+/// How much to load.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Amount {
+    /// This many pellets.
+    Count(u32),
+    /// Until the bed top reaches this height (m).
+    FillHeight(f64),
+}
+
+/// A resolved run configuration, SI units. Serialised into the trajectory's metadata.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PackConfig {
+    /// Pellet file path.
+    pub pellet: String,
+    /// Tube inner diameter (m).
+    pub tube_diameter_m: f64,
+    /// How much to load.
+    pub amount: Amount,
+    /// Random seed.
+    pub seed: u64,
+    /// Pellet–pellet restitution.
+    pub cor: f64,
+    /// Pellet–pellet friction.
+    pub friction: f64,
+    /// Pellet–wall/floor restitution.
+    pub wall_cor: f64,
+    /// Pellet–wall/floor friction.
+    pub wall_friction: f64,
+    /// Density (kg/m³).
+    pub density_kg_m3: f64,
+    /// Drop height above the bed top (m).
+    pub drop_height_m: f64,
+    /// Frame interval (s).
+    pub record_every_s: f64,
+    /// Time limit (s).
+    pub max_time_s: f64,
+    /// Loading scheme.
+    pub scheme: LoadingScheme,
+    /// Tilt (rad).
+    pub tilt_rad: f64,
+    /// Position disturbance (fraction of dp).
+    pub position_jitter_dp: f64,
+    /// Orientation disturbance (rad).
+    pub angle_jitter_rad: f64,
+    /// Minimum time between entries (s).
+    pub spacing_s: f64,
+    /// Settle window (s).
+    pub settle_window_s: f64,
+    /// Settle tolerance (relative).
+    pub settle_tolerance: f64,
+    /// Settle speed bound (m/s).
+    pub max_speed_m_s: f64,
+    /// Whether frames carry velocities.
+    pub record_velocities: bool,
+}
+
+fn check(flag: &str, v: f64, lo: f64, hi: f64, lo_open: bool, unit: &str) -> Result<f64, ConfigError> {
+    let ok = v.is_finite() && (if lo_open { v > lo } else { v >= lo }) && v <= hi;
+    if ok {
+        Ok(v)
+    } else {
+        let open = if lo_open { "(" } else { "[" };
+        let hi_txt = if hi.is_infinite() { "∞)".to_string() } else { format!("{hi}]") };
+        Err(ConfigError(format!("--{flag} must be in {open}{lo}, {hi_txt}{unit} (got {v})")))
+    }
+}
+
+impl PackConfig {
+    /// Defaults, checks and unit conversion. The defaults are the paper's
+    /// validation values (density 8030 kg/m³, COR 0.9 and μ 0.1 between
+    /// pellets, 0.6 and 0.6 at the wall), one column with a 45° tilt.
+    pub fn resolve(o: &PackOptions) -> Result<PackConfig, ConfigError> {
+        let mm = 1e-3;
+        let pellet =
+            o.pellet.clone().ok_or_else(|| ConfigError("--pellet is required (a file made by mkpellet)".into()))?;
+        let tube = o.tube_diameter.ok_or_else(|| ConfigError("--tube-diameter is required (mm)".into()))?;
+        let amount = match (o.count, o.fill_height) {
+            (Some(_), Some(_)) => return Err(ConfigError("give either --count or --fill-height, not both".into())),
+            (Some(0), None) => return Err(ConfigError("--count must be at least 1".into())),
+            (Some(n), None) => Amount::Count(n),
+            (None, Some(h)) => Amount::FillHeight(check("fill-height", h, 0.0, f64::INFINITY, true, " mm")? * mm),
+            (None, None) => return Err(ConfigError("give --count N or --fill-height MM".into())),
+        };
+        Ok(PackConfig {
+            pellet,
+            tube_diameter_m: check("tube-diameter", tube, 0.0, f64::INFINITY, true, " mm")? * mm,
+            amount,
+            seed: o.seed.unwrap_or(1),
+            cor: check("cor", o.cor.unwrap_or(0.9), 0.0, 1.0, false, "")?,
+            friction: check("friction", o.friction.unwrap_or(0.1), 0.0, 10.0, false, "")?,
+            wall_cor: check("wall-cor", o.wall_cor.unwrap_or(0.6), 0.0, 1.0, false, "")?,
+            wall_friction: check("wall-friction", o.wall_friction.unwrap_or(0.6), 0.0, 10.0, false, "")?,
+            density_kg_m3: check("density", o.density.unwrap_or(8030.0), 0.0, 1e6, true, " kg/m³")?,
+            drop_height_m: check("drop-height", o.drop_height.unwrap_or(30.0), 0.0, 1e4, true, " mm")? * mm,
+            record_every_s: check("record-every", o.record_every.unwrap_or(0.01), 0.0, 1e3, true, " s")?,
+            max_time_s: check("max-time", o.max_time.unwrap_or(120.0), 0.0, 1e6, true, " s")?,
+            scheme: o.scheme.unwrap_or(LoadingScheme::OneColumn),
+            tilt_rad: check("tilt", o.tilt.unwrap_or(45.0), 0.0, 90.0, false, "°")?.to_radians(),
+            position_jitter_dp: check("position-jitter", o.position_jitter.unwrap_or(0.1), 0.0, 10.0, false, " dp")?,
+            angle_jitter_rad: check("angle-jitter", o.angle_jitter.unwrap_or(5.0), 0.0, 180.0, false, "°")?
+                .to_radians(),
+            spacing_s: check("spacing", o.spacing.unwrap_or(0.02), 0.0, 1e3, false, " s")?,
+            settle_window_s: check("settle-window", o.settle_window.unwrap_or(0.15), 0.0, 1e3, true, " s")?,
+            settle_tolerance: check("settle-tolerance", o.settle_tolerance.unwrap_or(1e-3), 0.0, 1.0, true, "")?,
+            max_speed_m_s: check("max-speed", o.max_speed.unwrap_or(1e-3), 0.0, 1e3, true, " m/s")?,
+            record_velocities: o.record_velocities.unwrap_or(false),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn base() -> PackOptions {
+        PackOptions {
+            pellet: Some("c.pellet".into()),
+            tube_diameter: Some(69.83),
+            count: Some(40),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn defaults_are_the_papers_validation_values() {
+        let c = PackConfig::resolve(&base()).unwrap();
+        assert_eq!((c.density_kg_m3, c.cor, c.friction, c.wall_cor, c.wall_friction), (8030.0, 0.9, 0.1, 0.6, 0.6));
+        assert!((c.tube_diameter_m - 0.06983).abs() < 1e-15);
+        assert_eq!(c.scheme, LoadingScheme::OneColumn);
+        assert!((c.tilt_rad.to_degrees() - 45.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn case_files_parse_and_flags_override_them() {
+        let toml =
+            "pellet = \"r.pellet\"\ntube-diameter = 40.45\nfill-height = 120\ncor = 0.5\nscheme = \"four-columns\"\n";
+        let json = r#"{"pellet": "r.pellet", "tube-diameter": 40.45, "fill-height": 120, "cor": 0.5, "scheme": "four-columns"}"#;
+        let a = PackOptions::from_case_file(toml, "case.toml").unwrap();
+        let b = PackOptions::from_case_file(json, "case.json").unwrap();
+        assert_eq!(a, b);
+        let flags = PackOptions { cor: Some(0.8), ..Default::default() };
+        let c = PackConfig::resolve(&a.overlay(flags)).unwrap();
+        assert_eq!(c.cor, 0.8);
+        assert_eq!(c.scheme, LoadingScheme::FourColumns);
+        assert_eq!(c.amount, Amount::FillHeight(0.12));
+        let err = PackOptions::from_case_file("tube-diametr = 3\n", "x.toml").unwrap_err().to_string();
+        assert!(err.contains("tube-diametr"), "{err}");
+    }
+
+    #[test]
+    fn out_of_range_values_name_the_flag_and_range() {
+        for (o, needle) in [
+            (PackOptions { cor: Some(1.5), ..base() }, "--cor must be in [0, 1]"),
+            (PackOptions { wall_cor: Some(-0.1), ..base() }, "--wall-cor"),
+            (PackOptions { tube_diameter: Some(-3.0), ..base() }, "--tube-diameter must be in (0"),
+            (PackOptions { density: Some(f64::NAN), ..base() }, "--density"),
+            (PackOptions { fill_height: Some(100.0), ..base() }, "either --count or --fill-height"),
+            (PackOptions { count: None, ..base() }, "give --count N or --fill-height MM"),
+            (PackOptions { pellet: None, ..base() }, "--pellet is required"),
+        ] {
+            let err = PackConfig::resolve(&o).unwrap_err().to_string();
+            assert!(err.contains(needle), "{err}");
+        }
+    }
+}

@@ -1,0 +1,19 @@
+//! How pellets enter the tube: the paper's loading schemes and a pack
+//! run's configuration.
+//!
+//! - [`loading`]: the schemes (1, 2 or 4 columns, sock, dense), with seeded
+//!   random disturbances of position and orientation;
+//! - [`config`]: every parameter of a `pack` run, with the paper's
+//!   validation values as defaults, loadable from a TOML or JSON case file.
+#![deny(missing_docs)]
+
+pub mod config;
+pub mod loading;
+
+pub use config::{Amount, PackConfig, PackOptions};
+pub use loading::{Feeder, LoadingScheme, Spawn};
+
+/// A configuration value out of range; the message names the flag and the range.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct ConfigError(pub String);
