@@ -3,14 +3,18 @@
 //!
 //! - [`loading`]: the schemes (1, 2 or 4 columns, sock, dense), with seeded
 //!   random disturbances of position and orientation;
+//! - [`driver`]: the run itself — feeding, stepping the engine, streaming
+//!   frames and energy records to a sink, stopping when settled;
 //! - [`config`]: every parameter of a `pack` run, with the paper's
 //!   validation values as defaults, loadable from a TOML or JSON case file.
 #![deny(missing_docs)]
 
 pub mod config;
+pub mod driver;
 pub mod loading;
 
 pub use config::{Amount, PackConfig, PackOptions};
+pub use driver::{check_setup, run_pack, Ending, PackError, Progress, RunSink, RunSummary};
 pub use loading::{Feeder, LoadingScheme, Spawn};
 
 /// A configuration value out of range; the message names the flag and the range.

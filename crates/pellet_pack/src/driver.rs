@@ -1,0 +1,322 @@
+//! The pack run: feed pellets into the engine's tube, step it, stream
+//! frames and energy records to a sink, stop when the bed is settled.
+//!
+//! This module does no I/O: the `pack` tool supplies a [`RunSink`] that
+//! writes the MCAP trajectory and draws the progress bar.
+
+use pellet_geom::{ClosedForm, Pellet};
+use pellet_io::{EnergyRecord, Frame};
+use pellet_settle::{check_settled, EnergySample, SettleCriteria, SettleReport};
+use pellet_sim::{BodyType, Container, EngineParams, Material, Pipeline, ShapeDesc, Vec3, WallMaterial, World};
+
+use crate::config::{Amount, PackConfig};
+use crate::loading::{FeedParams, Feeder};
+
+/// Length of one engine step (s): the energy channel gets a record per
+/// step, so this is also its time resolution. The engine sub-steps inside.
+pub const STEP_S: f64 = 0.005;
+
+/// A pellet slower than this (m/s) counts as part of the bed when its top
+/// is taken as the bed surface.
+const RESTING_SPEED: f64 = 0.05;
+
+/// Where the run's output goes.
+pub trait RunSink {
+    /// A recorded pose frame.
+    fn frame(&mut self, frame: &Frame) -> Result<(), String>;
+    /// The energy record of one step.
+    fn energy(&mut self, record: &EnergyRecord) -> Result<(), String>;
+    /// Progress, after each step.
+    fn progress(&mut self, _progress: &Progress) {}
+    /// Whether the user asked to stop (Ctrl-C).
+    fn should_stop(&self) -> bool {
+        false
+    }
+}
+
+/// Progress of a run.
+#[derive(Clone, Copy, Debug)]
+pub struct Progress {
+    /// Simulated time (s).
+    pub time_s: f64,
+    /// Pellets in the tube.
+    pub pellets: u32,
+    /// Pellets to load (`None` when filling to a height).
+    pub target: Option<u32>,
+    /// Kinetic energy (J).
+    pub kinetic_j: f64,
+    /// Height of the bed surface (m).
+    pub bed_top_m: f64,
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Ending {
+    /// The settle test passed.
+    Settled,
+    /// The time limit was reached first.
+    TimeLimit,
+    /// The sink asked to stop.
+    Interrupted,
+}
+
+/// What a run did.
+#[derive(Clone, Debug)]
+pub struct RunSummary {
+    /// How it ended.
+    pub ending: Ending,
+    /// Final simulated time (s).
+    pub time_s: f64,
+    /// Pellets loaded.
+    pub pellets: u32,
+    /// The settle test's verdict at the end.
+    pub settle: SettleReport,
+    /// Largest penetration seen (m).
+    pub max_penetration_m: f64,
+    /// Engine substeps taken.
+    pub substeps: u64,
+}
+
+/// A run that cannot start or failed.
+#[derive(Debug, thiserror::Error)]
+pub enum PackError {
+    /// The pellet or the configuration does not fit the engine.
+    #[error("{0}")]
+    Setup(String),
+    /// The engine failed.
+    #[error("engine error at t = {time_s:.4} s: {message}")]
+    Engine {
+        /// Simulated time.
+        time_s: f64,
+        /// What went wrong.
+        message: String,
+    },
+    /// The sink failed (e.g. the disk is full).
+    #[error("{0}")]
+    Sink(String),
+}
+
+/// The engine's description of a pellet type.
+pub fn body_type(pellet: &Pellet) -> BodyType {
+    let shape = match pellet.closed_form {
+        Some(ClosedForm::Sphere { radius }) => ShapeDesc::Sphere { radius },
+        Some(ClosedForm::Cylinder { radius, half_height }) => ShapeDesc::Cylinder { radius, half_height },
+        Some(ClosedForm::HollowCylinder { inner_radius, outer_radius, half_height }) => {
+            ShapeDesc::HollowCylinder { inner_radius, outer_radius, half_height }
+        }
+        None => ShapeDesc::Mesh { name: pellet.shape.kind().to_string() },
+    };
+    BodyType {
+        shape,
+        volume_m3: pellet.properties.volume,
+        inertia_per_density_m5: pellet.properties.inertia,
+        bounding_radius_m: pellet.bounding_radius,
+    }
+}
+
+/// Radius of the narrowest tube the pellet can enter: the smallest, over
+/// its principal axes, of the largest distance of a mesh vertex from that axis.
+pub fn narrowest_tube_radius(pellet: &Pellet) -> f64 {
+    let axes = pellet.properties.principal_axes;
+    (0..3)
+        .map(|k| {
+            let a = axes.column(k).into_owned();
+            pellet.mesh.vertices.iter().map(|v| (v.coords - a * a.dot(&v.coords)).norm()).fold(0.0, f64::max)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Checks that the run can start (the tube fits the pellet, the engine
+/// accepts the shape and materials) without running it, so that a tool
+/// can refuse before it creates any output.
+pub fn check_setup(config: &PackConfig, pellet: &Pellet) -> Result<(), PackError> {
+    new_world(config, pellet).map(|_| ())
+}
+
+fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_sim::TypeId), PackError> {
+    let tube_radius = 0.5 * config.tube_diameter_m;
+    let min_radius = narrowest_tube_radius(pellet);
+    if tube_radius <= min_radius {
+        return Err(PackError::Setup(format!(
+            "--tube-diameter {:.3} mm is too narrow for this pellet: it needs more than {:.3} mm",
+            config.tube_diameter_m * 1e3,
+            2.0 * min_radius * 1e3
+        )));
+    }
+    let setup = |e: pellet_sim::SimError| PackError::Setup(e.to_string());
+    let material = Material { density: config.density_kg_m3, cor: config.cor, friction: config.friction };
+    let wall = WallMaterial { cor: config.wall_cor, friction: config.wall_friction };
+    let mut world =
+        World::new(Container::tube(config.tube_diameter_m).map_err(setup)?, material, wall, EngineParams::default())
+            .map_err(setup)?;
+    let type_id = world.register_type(body_type(pellet)).map_err(setup)?;
+    Ok((world, type_id))
+}
+
+/// Runs a pack.
+pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -> Result<RunSummary, PackError> {
+    let (mut world, type_id) = new_world(config, pellet)?;
+    let tube_radius = 0.5 * config.tube_diameter_m;
+    let dp = pellet.properties.equivalent_diameter;
+    let r_b = pellet.bounding_radius;
+    let mut feeder = Feeder::new(
+        FeedParams {
+            scheme: config.scheme,
+            tilt: config.tilt_rad,
+            position_jitter: config.position_jitter_dp * dp,
+            angle_jitter: config.angle_jitter_rad,
+            drop_height: config.drop_height_m.max(1.05 * r_b),
+            tube_radius,
+            bounding_radius: r_b,
+        },
+        config.seed,
+    );
+    let target = match config.amount {
+        Amount::Count(n) => Some(n),
+        Amount::FillHeight(_) => None,
+    };
+    let mass = config.density_kg_m3 * pellet.properties.volume;
+    let mut pipeline = Pipeline::new();
+    let mut history: Vec<EnergySample> = Vec::new();
+    let mut feeding = true;
+    let mut next_entry = 0.0;
+    let mut next_frame = 0.0;
+    let mut max_penetration: f64 = 0.0;
+    let mut substeps = 0u64;
+    let mut settle = check_settled(&[], &criteria(config, 0, mass, dp));
+    let ending = loop {
+        let t = world.time();
+        let top = bed_top(&world);
+        // Feed: one pellet at a time, once the entry point is clear.
+        if feeding {
+            let full = match config.amount {
+                Amount::Count(n) => world.bodies().len() as u32 >= n,
+                Amount::FillHeight(h) => top >= h,
+            };
+            if full {
+                feeding = false;
+            } else if t >= next_entry {
+                let spawn = feeder.next(top);
+                if entry_is_clear(&world, &spawn.position, r_b) {
+                    world
+                        .add_body(type_id, spawn.position, spawn.orientation, Vec3::zeros(), Vec3::zeros())
+                        .map_err(|e| PackError::Engine { time_s: t, message: e.to_string() })?;
+                    next_entry = t + config.spacing_s;
+                }
+            }
+        }
+        if t + 1e-12 >= next_frame {
+            sink.frame(&frame(&world, config.record_velocities)).map_err(PackError::Sink)?;
+            next_frame += config.record_every_s;
+        }
+        let report = world
+            .step(STEP_S, &mut pipeline)
+            .map_err(|e| PackError::Engine { time_s: world.time(), message: e.to_string() })?;
+        max_penetration = max_penetration.max(report.max_penetration);
+        substeps += report.substeps as u64;
+        let ledger = world.energy();
+        let max_speed = world.bodies().iter().map(|b| b.velocity().norm()).fold(0.0, f64::max);
+        let record = EnergyRecord {
+            time_s: world.time(),
+            pellets: world.bodies().len() as u32,
+            kinetic_translational_j: ledger.kinetic_translational,
+            kinetic_rotational_j: ledger.kinetic_rotational,
+            potential_j: ledger.potential,
+            dissipated_collisions_j: ledger.removed_by_collisions,
+            dissipated_friction_j: ledger.removed_by_friction,
+            projection_j: ledger.removed_by_projection,
+            colliding_contacts: report.colliding.min(u32::MAX as u64) as u32,
+            resting_contacts: report.resting.min(u32::MAX as u64) as u32,
+            substeps: report.substeps,
+            solver_residual: report.solver_residual,
+            solver_iterations: report.solver_iterations.min(u32::MAX as u64) as u32,
+            max_penetration_m: report.max_penetration_after_projection,
+            max_speed_m_s: max_speed,
+        };
+        sink.energy(&record).map_err(PackError::Sink)?;
+        history.push(EnergySample {
+            time_s: record.time_s,
+            kinetic_j: record.kinetic_j(),
+            max_speed_m_s: max_speed,
+            pellets: record.pellets,
+        });
+        sink.progress(&Progress {
+            time_s: record.time_s,
+            pellets: record.pellets,
+            target,
+            kinetic_j: record.kinetic_j(),
+            bed_top_m: top,
+        });
+        if !feeding {
+            // Only the recent past matters to the test: keep its cost flat.
+            let from = history.partition_point(|s| s.time_s < record.time_s - 2.0 * config.settle_window_s);
+            settle = check_settled(&history[from..], &criteria(config, record.pellets, mass, dp));
+            if settle.settled {
+                break Ending::Settled;
+            }
+        }
+        if world.time() >= config.max_time_s {
+            break Ending::TimeLimit;
+        }
+        if sink.should_stop() {
+            break Ending::Interrupted;
+        }
+    };
+    sink.frame(&frame(&world, config.record_velocities)).map_err(PackError::Sink)?;
+    Ok(RunSummary {
+        ending,
+        time_s: world.time(),
+        pellets: world.bodies().len() as u32,
+        settle,
+        max_penetration_m: max_penetration,
+        substeps,
+    })
+}
+
+fn criteria(config: &PackConfig, pellets: u32, mass: f64, dp: f64) -> SettleCriteria {
+    let mut c = SettleCriteria::recommended(pellets, mass, dp);
+    c.window_s = config.settle_window_s;
+    c.relative_tolerance = config.settle_tolerance;
+    c.max_speed_m_s = config.max_speed_m_s;
+    c
+}
+
+/// The bed surface: the highest top of a slow pellet, or the floor.
+fn bed_top(world: &World) -> f64 {
+    world
+        .bodies()
+        .iter()
+        .filter(|b| b.velocity().norm() < RESTING_SPEED)
+        .map(|b| b.position.z + b.bounding_radius)
+        .fold(0.0, f64::max)
+}
+
+/// No pellet's bounding sphere comes within the new pellet's.
+fn entry_is_clear(world: &World, at: &Vec3, r_b: f64) -> bool {
+    world.bodies().iter().all(|b| (b.position - at).norm() > b.bounding_radius + r_b)
+}
+
+fn frame(world: &World, velocities: bool) -> Frame {
+    let bodies = world.bodies();
+    Frame {
+        time_s: world.time(),
+        type_index: bodies.iter().map(|b| b.type_id.0).collect(),
+        positions: bodies.iter().map(|b| [b.position.x, b.position.y, b.position.z]).collect(),
+        orientations: bodies
+            .iter()
+            .map(|b| {
+                let q = b.orientation.quaternion();
+                [q.w, q.i, q.j, q.k]
+            })
+            .collect(),
+        velocities: velocities.then(|| {
+            bodies
+                .iter()
+                .map(|b| {
+                    let (v, w) = (b.velocity(), b.angular_velocity());
+                    [v.x, v.y, v.z, w.x, w.y, w.z]
+                })
+                .collect()
+        }),
+    }
+}

@@ -1,0 +1,185 @@
+//! The collision phase (physics.md §3.3–3.5, §5.6): passes of simultaneous normal impulses
+//! over the contacts colliding at that moment, Coulomb friction per point with the stick or
+//! zero clamp, and a final e = 0 solve when the pass cap is reached.
+
+use super::islands::build_islands;
+use super::lcp::solve_auto;
+use super::rows::{collision_matrix, relative_velocity};
+use crate::body::Body;
+use crate::geometry::contact::Contact;
+use crate::math::{Real, Vec3};
+use crate::params::{EngineParams, FrictionClamp, IterativeSolver};
+
+/// What the collision phase did in one substep.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CollisionStats {
+    /// Contacts colliding at the start of the phase.
+    pub colliding: usize,
+    /// Passes run.
+    pub passes: u32,
+    /// Number of non-zero point impulses applied.
+    pub impulses: u32,
+    /// Whether the final e = 0 solve was needed.
+    pub final_solve: bool,
+    /// Kinetic energy removed by normal impulses, J (≥ 0).
+    pub normal_loss: Real,
+    /// Kinetic energy removed by friction impulses, J (≥ 0).
+    pub friction_loss: Real,
+    /// Friction impulses dropped by the energy guard.
+    pub guard_events: u32,
+    /// Solver iterations / pivots.
+    pub solver_iterations: usize,
+}
+
+fn kinetic(bodies: &[Body], ids: &[usize]) -> Real {
+    ids.iter().map(|&k| bodies[k].kinetic_translational() + bodies[k].kinetic_rotational()).sum()
+}
+
+fn apply(bodies: &mut [Body], c: &Contact, j: &Vec3) {
+    bodies[c.a].apply_impulse_at_lever(j, &c.lever_a);
+    if let Some(b) = c.b_body() {
+        bodies[b].apply_impulse_at_lever(&-j, &c.lever_b);
+    }
+}
+
+/// The friction impulse of §3.4 for a contact whose normal impulse `p` was just applied.
+/// `slip` is the tangential velocity before the pass; returns None when no friction acts.
+fn friction_impulse(
+    c: &Contact,
+    bodies: &[Body],
+    p: Real,
+    mu: Real,
+    slip: &Vec3,
+    clamp: FrictionClamp,
+) -> Option<Vec3> {
+    let t = slip.normalize();
+    let n = c.normal;
+    let u = relative_velocity(c, bodies);
+    let k = collision_matrix(c, bodies);
+    let t1 = t;
+    let t2 = n.cross(&t1);
+    // Stick: the tangential impulse that zeroes the tangential relative velocity.
+    let ktt = nalgebra::Matrix2::new(t1.dot(&(k * t1)), t1.dot(&(k * t2)), t2.dot(&(k * t1)), t2.dot(&(k * t2)));
+    let rhs = nalgebra::Vector2::new(-t1.dot(&u), -t2.dot(&u));
+    let stick = ktt.try_inverse().map(|inv| {
+        let y = inv * rhs;
+        t1 * y.x + t2 * y.y
+    });
+    let slide = -t * (mu * p);
+    let reverses = |j: &Vec3| {
+        let up = u + k * j;
+        (up - n * n.dot(&up)).dot(&t) < 0.0
+    };
+    match clamp {
+        FrictionClamp::Stick => match stick {
+            Some(js) if js.norm() <= mu * p => Some(js),
+            _ if !reverses(&slide) => Some(slide),
+            _ => stick,
+        },
+        FrictionClamp::Zero => (!reverses(&slide)).then_some(slide),
+    }
+}
+
+/// Runs the collision phase on `contacts` (restitution `cor[i]`, friction `mu[i]`).
+///
+/// A contact collides if it approaches faster than εp and its gap would fall below δ_c within
+/// the substep `dt` (contacts are generated a little ahead, so that an impact is resolved at the
+/// pre-collision state, as the paper's roll-back does, instead of one substep late).
+pub fn collision_phase(
+    bodies: &mut [Body],
+    contacts: &[Contact],
+    cor: &[Real],
+    mu: &[Real],
+    params: &EngineParams,
+    dt: Real,
+    delta_c: Real,
+) -> CollisionStats {
+    let mut stats = CollisionStats::default();
+    let apgd = params.iterative_solver == IterativeSolver::Apgd;
+    loop {
+        let u: Vec<Vec3> = contacts.iter().map(|c| relative_velocity(c, bodies)).collect();
+        let vn: Vec<Real> = contacts.iter().zip(&u).map(|(c, u)| c.normal.dot(u)).collect();
+        let colliding: Vec<usize> =
+            (0..contacts.len()).filter(|&i| vn[i] < -params.eps_p && contacts[i].gap + vn[i] * dt <= delta_c).collect();
+        if stats.passes == 0 {
+            stats.colliding = colliding.len();
+        }
+        if colliding.is_empty() {
+            break;
+        }
+        // Velocity tolerance relative to the impact speeds of this pass.
+        let vmax = colliding.iter().map(|&i| -vn[i]).fold(params.eps_p, Real::max);
+        let vtol = 1e-12 * vmax;
+        let final_solve = stats.passes >= params.collision_pass_cap;
+        let set: Vec<usize> = if final_solve {
+            (0..contacts.len())
+                .filter(|&i| vn[i] <= params.eps_p && contacts[i].gap + vn[i].min(0.0) * dt <= delta_c)
+                .collect()
+        } else {
+            colliding
+        };
+        stats.passes += 1;
+        for island in build_islands(contacts, &set, bodies.len()) {
+            let masses = island.masses(bodies);
+            let sys = island.normal_system(contacts, &masses);
+            let b: Vec<Real> = island
+                .contacts
+                .iter()
+                .map(|&ci| {
+                    let e = if final_solve { 0.0 } else { cor[ci] };
+                    (1.0 + e) * vn[ci]
+                })
+                .collect();
+            let mut p = vec![0.0; b.len()];
+            let rep = solve_auto(
+                &sys,
+                &b,
+                &mut p,
+                vtol,
+                1e3 * vtol,
+                params.exact_solver_max_rows,
+                apgd,
+                10 * params.apgd_max_iterations,
+                10 * params.pgs_max_iterations,
+            );
+            stats.solver_iterations += rep.iterations;
+            let ke0 = kinetic(bodies, &island.bodies);
+            for (k, &ci) in island.contacts.iter().enumerate() {
+                if p[k] > 0.0 {
+                    apply(bodies, &contacts[ci], &(contacts[ci].normal * p[k]));
+                    stats.impulses += 1;
+                }
+            }
+            let ke1 = kinetic(bodies, &island.bodies);
+            stats.normal_loss += ke0 - ke1;
+            if final_solve {
+                continue;
+            }
+            for (k, &ci) in island.contacts.iter().enumerate() {
+                let c = &contacts[ci];
+                let slip = u[ci] - c.normal * vn[ci];
+                if p[k] <= 0.0 || mu[ci] <= 0.0 || slip.norm() <= params.eps_f {
+                    continue;
+                }
+                let Some(j) = friction_impulse(c, bodies, p[k], mu[ci], &slip, params.friction_clamp) else {
+                    continue;
+                };
+                let um = relative_velocity(c, bodies);
+                let up = um + collision_matrix(c, bodies) * j;
+                let d_ke = j.dot(&(um + up)) * 0.5;
+                let ke_scale = kinetic(bodies, &island.bodies).max(1e-300);
+                if d_ke > 1e-12 * ke_scale {
+                    stats.guard_events += 1;
+                    continue;
+                }
+                apply(bodies, c, &j);
+                stats.friction_loss -= d_ke;
+            }
+        }
+        if final_solve {
+            stats.final_solve = true;
+            break;
+        }
+    }
+    stats
+}

@@ -1,0 +1,165 @@
+//! Linear complementarity problems a = A f + b, f ≥ 0, a ≥ 0, f·a = 0 (physics.md §4).
+//!
+//! One problem, several solvers behind one interface: Baraff's exact pivoting method (small
+//! islands, reference), APGD and PGS (large islands). All report residual, iterations, status.
+
+pub mod apgd;
+pub mod baraff;
+pub mod pgs;
+
+use crate::math::Real;
+use nalgebra::DMatrix;
+
+/// Access to the matrix A of an LCP, either dense or matrix-free.
+///
+/// The "accumulator" methods support Gauss–Seidel: `acc` is an auxiliary vector (for contact
+/// systems the stacked body velocity changes M⁻¹Jᵀf) such that (A f)_i = row_dot(i, acc) when
+/// `acc` was built by `add_col` over all columns.
+pub trait LcpMatrix {
+    /// Number of rows.
+    fn dim(&self) -> usize;
+    /// Diagonal entry A_ii.
+    fn diag(&self, i: usize) -> Real;
+    /// y = A x.
+    fn mul(&self, x: &[Real], y: &mut [Real]);
+    /// Length of the accumulator vector.
+    fn acc_len(&self) -> usize;
+    /// (A f)_i from the accumulator.
+    fn row_dot(&self, i: usize, acc: &[Real]) -> Real;
+    /// acc += s · (column i in accumulator space).
+    fn add_col(&self, i: usize, s: Real, acc: &mut [Real]);
+    /// The dense matrix.
+    fn dense(&self) -> DMatrix<Real> {
+        let n = self.dim();
+        let mut m = DMatrix::zeros(n, n);
+        let mut e = vec![0.0; n];
+        let mut y = vec![0.0; n];
+        for j in 0..n {
+            e[j] = 1.0;
+            self.mul(&e, &mut y);
+            for i in 0..n {
+                m[(i, j)] = y[i];
+            }
+            e[j] = 0.0;
+        }
+        m
+    }
+}
+
+/// A dense matrix as an [`LcpMatrix`] (the accumulator is A f itself).
+#[derive(Debug, Clone)]
+pub struct DenseLcp(pub DMatrix<Real>);
+
+impl LcpMatrix for DenseLcp {
+    fn dim(&self) -> usize {
+        self.0.nrows()
+    }
+    fn diag(&self, i: usize) -> Real {
+        self.0[(i, i)]
+    }
+    fn mul(&self, x: &[Real], y: &mut [Real]) {
+        for (i, yi) in y.iter_mut().enumerate() {
+            *yi = (0..x.len()).map(|j| self.0[(i, j)] * x[j]).sum();
+        }
+    }
+    fn acc_len(&self) -> usize {
+        self.0.nrows()
+    }
+    fn row_dot(&self, i: usize, acc: &[Real]) -> Real {
+        acc[i]
+    }
+    fn add_col(&self, i: usize, s: Real, acc: &mut [Real]) {
+        for (k, a) in acc.iter_mut().enumerate() {
+            *a += s * self.0[(k, i)];
+        }
+    }
+    fn dense(&self) -> DMatrix<Real> {
+        self.0.clone()
+    }
+}
+
+/// How a solve ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LcpStatus {
+    /// Converged to the tolerance.
+    Converged,
+    /// Hit the iteration or pivot cap; the best iterate is returned.
+    MaxIterations,
+    /// No solution exists (e.g. inconsistent b on redundant rows).
+    Infeasible,
+}
+
+/// What a solver reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LcpReport {
+    /// Iterations (iterative solvers) or pivots (Baraff).
+    pub iterations: usize,
+    /// Natural residual max_i |min(A_ii f_i, a_i)|, in the units of b.
+    pub residual: Real,
+    /// Most negative a_i (unsupported acceleration), ≤ 0.
+    pub min_a: Real,
+    /// Outcome.
+    pub status: LcpStatus,
+}
+
+/// A solver of the LCP. `f` holds the warm start on entry and the answer on return.
+pub trait LcpSolver {
+    /// Solves a = A f + b to residual `tol`.
+    fn solve(&mut self, a: &dyn LcpMatrix, b: &[Real], f: &mut [Real], tol: Real) -> LcpReport;
+}
+
+/// Natural residual and most negative a of `f`.
+pub fn residual(a: &dyn LcpMatrix, b: &[Real], f: &[Real]) -> (Real, Real) {
+    let mut af = vec![0.0; f.len()];
+    a.mul(f, &mut af);
+    residual_from(a, b, f, &af)
+}
+
+/// As [`residual`] with A f already computed.
+pub fn residual_from(a: &dyn LcpMatrix, b: &[Real], f: &[Real], af: &[Real]) -> (Real, Real) {
+    let mut r: Real = 0.0;
+    let mut min_a: Real = 0.0;
+    for i in 0..f.len() {
+        let ai = af[i] + b[i];
+        r = r.max((a.diag(i) * f[i]).min(ai).abs());
+        min_a = min_a.min(ai);
+    }
+    (r, min_a)
+}
+
+/// Solves an island's LCP (Baraff to `exact_tol`, iterative solvers to `tol`) with the solver its size calls for: Baraff up to `max_exact` rows
+/// (falling back to PGS if pivoting fails), else the iterative solver (APGD with a PGS polish,
+/// or PGS alone). `f` carries the warm start for the iterative path.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_auto(
+    a: &dyn LcpMatrix,
+    b: &[Real],
+    f: &mut [Real],
+    exact_tol: Real,
+    tol: Real,
+    max_exact: usize,
+    use_apgd: bool,
+    apgd_iterations: usize,
+    pgs_iterations: usize,
+) -> LcpReport {
+    if a.dim() <= max_exact {
+        let mut solver = baraff::Baraff::default();
+        let rep = solver.solve(a, b, f, exact_tol);
+        if rep.status == LcpStatus::Converged || rep.status == LcpStatus::Infeasible {
+            return rep;
+        }
+    }
+    if use_apgd {
+        let mut apgd = apgd::Apgd { max_iterations: apgd_iterations };
+        let rep = apgd.solve(a, b, f, tol);
+        if rep.status == LcpStatus::Converged {
+            return rep;
+        }
+        let mut pgs = pgs::Pgs { max_iterations: pgs_iterations, sor: 1.0 };
+        let mut rep2 = pgs.solve(a, b, f, tol);
+        rep2.iterations += rep.iterations;
+        return rep2;
+    }
+    let mut pgs = pgs::Pgs { max_iterations: pgs_iterations, sor: 1.0 };
+    pgs.solve(a, b, f, tol)
+}

@@ -1,0 +1,10 @@
+//! Dynamics: integration, contact rows, the LCP solvers, the collision and resting phases and
+//! position projection.
+
+pub mod collide;
+pub mod integrator;
+pub mod islands;
+pub mod lcp;
+pub mod resting;
+pub mod rows;
+pub mod stabilize;

@@ -1,0 +1,74 @@
+//! The contact point record shared by the narrow phase and the dynamics.
+
+use crate::container::WallId;
+use crate::math::{Real, Vec3};
+
+/// The other side of a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Counterpart {
+    /// Another dynamic body (index).
+    Body(usize),
+    /// A static wall.
+    Wall(WallId),
+}
+
+/// How the second time derivative of the gap is formed (physics.md §4.2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GapKinematics {
+    /// Exact sphere–sphere gap |x_A − x_B| − R_A − R_B (centre distance given).
+    SphereSphere {
+        /// Centre distance, m.
+        distance: Real,
+    },
+    /// Sphere on a fixed plane: the gap is affine in the centre, no curvature term.
+    SpherePlane,
+    /// Sphere inside the tube: the gap is R_t − ρ − R, ρ the centre's distance from the axis.
+    SphereTube {
+        /// The centre's distance from the axis, m.
+        rho: Real,
+    },
+}
+
+/// Persistent identity of a contact point, for warm starting (physics.md §6.6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub struct ContactKey {
+    /// Body A.
+    pub a: u32,
+    /// Body B or wall.
+    pub b: Counterpart,
+    /// Feature / sample index within the pair.
+    pub feature: u32,
+}
+
+/// One contact point. The normal points from B into A; `gap` < 0 means penetration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contact {
+    /// Body A (dynamic).
+    pub a: usize,
+    /// Body B or a wall.
+    pub b: Counterpart,
+    /// Contact point (midway across the gap), world frame.
+    pub point: Vec3,
+    /// Lever arm from A's centre of mass to A's surface point, world frame.
+    pub lever_a: Vec3,
+    /// Lever arm from B's centre of mass to B's surface point (zero for walls), world frame.
+    pub lever_b: Vec3,
+    /// Unit normal from B into A.
+    pub normal: Vec3,
+    /// Signed gap, m.
+    pub gap: Real,
+    /// Gap kinematics for the resting-contact right-hand side.
+    pub kinematics: GapKinematics,
+    /// Persistent key.
+    pub key: ContactKey,
+}
+
+impl Contact {
+    /// Index of body B if it is dynamic.
+    pub fn b_body(&self) -> Option<usize> {
+        match self.b {
+            Counterpart::Body(j) => Some(j),
+            Counterpart::Wall(_) => None,
+        }
+    }
+}

@@ -1,0 +1,7 @@
+//! Collision geometry: the broad phase (candidate pairs) and the narrow phase (contact points).
+
+pub mod broad_phase;
+pub mod contact;
+pub mod contact_sphere_sphere;
+pub mod contact_sphere_wall;
+pub mod narrow_phase;

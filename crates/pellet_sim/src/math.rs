@@ -1,0 +1,18 @@
+//! Type aliases for the small-vector maths used throughout the engine (f64 everywhere).
+
+/// Scalar type.
+pub type Real = f64;
+/// 3-vector (positions in m, velocities in m/s, ...).
+pub type Vec3 = nalgebra::Vector3<Real>;
+/// 3×3 matrix (inertia tensors, collision matrices).
+pub type Mat3 = nalgebra::Matrix3<Real>;
+/// Unit quaternion (body orientation, body frame → world frame).
+pub type Quat = nalgebra::UnitQuaternion<Real>;
+
+/// Standard gravity used by the default parameters, m/s².
+pub const STANDARD_GRAVITY: Real = 9.81;
+
+/// Cross-product matrix `[r]×`, so that `skew(r) * y == r.cross(&y)`.
+pub fn skew(r: &Vec3) -> Mat3 {
+    Mat3::new(0.0, -r.z, r.y, r.z, 0.0, -r.x, -r.y, r.x, 0.0)
+}

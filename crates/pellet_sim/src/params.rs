@@ -1,0 +1,177 @@
+//! Engine parameters and switches. `Default` is "paper mode" with the values of physics.md §8.1.
+
+use crate::error::SimError;
+use crate::math::{Real, Vec3, STANDARD_GRAVITY};
+use crate::shape::positive;
+use serde::{Deserialize, Serialize};
+
+/// How a friction impulse that would reverse the sliding direction is clamped (physics.md §3.4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FrictionClamp {
+    /// Replace it by the impulse that brings the tangential velocity exactly to zero.
+    Stick,
+    /// Drop the friction part altogether (the literal reading of the paper).
+    Zero,
+}
+
+/// Which iterative solver handles islands larger than `exact_solver_max_rows`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum IterativeSolver {
+    /// Accelerated projected gradient descent (Nesterov), PGS as fallback.
+    Apgd,
+    /// Projected Gauss–Seidel only.
+    Pgs,
+}
+
+/// All tunables, SI units. Lengths that scale with the pellet are given as factors of the
+/// reference pellet size `d` = twice the largest registered bounding radius.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EngineParams {
+    /// Gravity, m/s². Default (0, 0, −9.81).
+    pub gravity: Vec3,
+    /// εp: normal-velocity band of resting contacts, m/s.
+    pub eps_p: Real,
+    /// εf: tangential speed below which a contact does not slide, m/s.
+    pub eps_f: Real,
+    /// Upper bound on the substep, s (choose g·cap ≤ εp/2).
+    pub dt_cap: Real,
+    /// λ as a factor of the bounding radius (proximity distance of the broad phase).
+    pub proximity_factor: Real,
+    /// Contact generation distance δ_c as a factor of `d`.
+    pub contact_distance_factor: Real,
+    /// Allowed penetration s_lop left alone by position projection, factor of `d`.
+    pub slop_factor: Real,
+    /// Penetration after a substep that triggers rewind-and-halve, factor of `d`.
+    pub max_penetration_factor: Real,
+    /// Static friction at resting contacts whose slip is below εf (off = paper mode).
+    pub static_friction: bool,
+    /// Clamp rule for friction that would reverse sliding.
+    pub friction_clamp: FrictionClamp,
+    /// Velocity bias at resting contacts (physics.md §5.4; off = paper mode).
+    pub velocity_bias: bool,
+    /// Collision passes before the final e = 0 solve.
+    pub collision_pass_cap: u32,
+    /// Largest island solved by Baraff's exact method.
+    pub exact_solver_max_rows: usize,
+    /// Solver for larger islands.
+    pub iterative_solver: IterativeSolver,
+    /// Residual tolerance of the iterative solvers as a factor of |g| (or of 9.81 if g = 0).
+    pub solver_tolerance_factor: Real,
+    /// Iteration cap of APGD.
+    pub apgd_max_iterations: usize,
+    /// Iteration cap of PGS.
+    pub pgs_max_iterations: usize,
+    /// Largest |ω|·δt of one rotation sub-step.
+    pub max_rotation_per_substep: Real,
+    /// Largest number of rewind-and-halve attempts for one substep.
+    pub max_rewinds: u32,
+}
+
+impl Default for EngineParams {
+    fn default() -> Self {
+        Self {
+            gravity: Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
+            eps_p: 5e-3,
+            eps_f: 5e-3,
+            dt_cap: 2.5e-4,
+            proximity_factor: 0.1,
+            contact_distance_factor: 1e-3,
+            slop_factor: 2.5e-4,
+            max_penetration_factor: 1e-2,
+            static_friction: false,
+            friction_clamp: FrictionClamp::Zero,
+            velocity_bias: false,
+            collision_pass_cap: 50,
+            exact_solver_max_rows: 64,
+            iterative_solver: IterativeSolver::Apgd,
+            solver_tolerance_factor: 1e-4,
+            apgd_max_iterations: 200,
+            pgs_max_iterations: 500,
+            max_rotation_per_substep: 0.01,
+            max_rewinds: 8,
+        }
+    }
+}
+
+impl EngineParams {
+    /// The recommended (non-paper) mode: static friction, stick clamp, velocity bias.
+    pub fn recommended() -> Self {
+        Self { static_friction: true, friction_clamp: FrictionClamp::Stick, velocity_bias: true, ..Self::default() }
+    }
+
+    /// Solver residual tolerance in m/s².
+    pub fn solver_tolerance(&self) -> Real {
+        let g = self.gravity.norm();
+        let g = if g > 0.0 { g } else { STANDARD_GRAVITY };
+        self.solver_tolerance_factor * g
+    }
+
+    /// Rejects non-finite or non-positive values.
+    pub fn validate(&self) -> Result<(), SimError> {
+        if self.gravity.iter().any(|g| !g.is_finite()) {
+            return Err(SimError::InvalidParameter {
+                name: "gravity",
+                value: self.gravity.norm(),
+                reason: "must be finite",
+            });
+        }
+        positive("eps_p", self.eps_p)?;
+        positive("eps_f", self.eps_f)?;
+        positive("dt_cap", self.dt_cap)?;
+        positive("proximity_factor", self.proximity_factor)?;
+        positive("contact_distance_factor", self.contact_distance_factor)?;
+        positive("slop_factor", self.slop_factor)?;
+        positive("max_penetration_factor", self.max_penetration_factor)?;
+        positive("solver_tolerance_factor", self.solver_tolerance_factor)?;
+        positive("max_rotation_per_substep", self.max_rotation_per_substep)?;
+        if self.collision_pass_cap == 0 || self.apgd_max_iterations == 0 || self.pgs_max_iterations == 0 {
+            return Err(SimError::InvalidParameter { name: "iteration caps", value: 0.0, reason: "must be >= 1" });
+        }
+        Ok(())
+    }
+}
+
+/// Pellet–pellet material (each pair uses these values; no combining rule).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Material {
+    /// Density, kg/m³.
+    pub density: Real,
+    /// Coefficient of restitution, 0..=1.
+    pub cor: Real,
+    /// Coulomb friction coefficient, ≥ 0.
+    pub friction: Real,
+}
+
+/// Pellet–wall and pellet–floor material.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WallMaterial {
+    /// Coefficient of restitution, 0..=1.
+    pub cor: Real,
+    /// Coulomb friction coefficient, ≥ 0.
+    pub friction: Real,
+}
+
+pub(crate) fn check_cor_mu(cor: Real, mu: Real) -> Result<(), SimError> {
+    if !(cor.is_finite() && (0.0..=1.0).contains(&cor)) {
+        return Err(SimError::InvalidParameter { name: "cor", value: cor, reason: "must lie in [0, 1]" });
+    }
+    if !(mu.is_finite() && mu >= 0.0) {
+        return Err(SimError::InvalidParameter { name: "friction", value: mu, reason: "must be finite and >= 0" });
+    }
+    Ok(())
+}
+
+impl Material {
+    /// Validates density, restitution and friction.
+    pub fn validate(&self) -> Result<(), SimError> {
+        positive("density", self.density)?;
+        check_cor_mu(self.cor, self.friction)
+    }
+}
+
+impl WallMaterial {
+    /// Validates restitution and friction.
+    pub fn validate(&self) -> Result<(), SimError> {
+        check_cor_mu(self.cor, self.friction)
+    }
+}

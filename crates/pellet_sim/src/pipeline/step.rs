@@ -1,0 +1,347 @@
+//! The time-stepping skeleton of physics.md §2: swept broad phase, free flight when nothing is
+//! near, otherwise substeps of δt = min(0.2λ/v_max, cap, time to the next proximity entry) with
+//! collision phase, resting phase, midpoint integration, position projection and
+//! rewind-and-halve on excess penetration.
+
+use super::ledger::EnergyLedger;
+use super::world::World;
+use crate::body::Body;
+use crate::container::{Container, WallId};
+use crate::dynamics::collide::collision_phase;
+use crate::dynamics::integrator::advance;
+use crate::dynamics::resting::resting_phase;
+use crate::dynamics::rows::relative_velocity;
+use crate::dynamics::stabilize::project_positions;
+use crate::error::SimError;
+use crate::geometry::broad_phase::BroadPhase;
+use crate::geometry::contact::{Contact, ContactKey, Counterpart};
+use crate::geometry::narrow_phase::{collide_pair, collide_wall, Pellet};
+use crate::math::{Real, Vec3};
+use crate::shape::BodyType;
+
+/// One contact of the last committed substep, with the forces the resting phase gave it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactRecord {
+    /// The contact geometry.
+    pub contact: Contact,
+    /// Normal force from the resting phase, N (0 if the contact was not resting).
+    pub normal_force: Real,
+    /// Friction force on body A from the resting phase, N.
+    pub friction_force: Vec3,
+}
+
+/// Scratch buffers and caches reused across steps. Not part of the simulation state.
+#[derive(Debug, Default, Clone)]
+pub struct Pipeline {
+    broad: BroadPhase,
+    warm: Vec<(ContactKey, Real)>,
+    saved: Vec<Body>,
+    last_contacts: Vec<ContactRecord>,
+}
+
+impl Pipeline {
+    /// Empty pipeline.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The contacts of the last committed substep.
+    pub fn last_contacts(&self) -> &[ContactRecord] {
+        &self.last_contacts
+    }
+}
+
+/// What one call of [`World::step`] did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct StepReport {
+    /// Contact substeps taken.
+    pub substeps: u32,
+    /// Free-flight segments taken.
+    pub free_flights: u32,
+    /// Substeps redone with a halved δt.
+    pub rewinds: u32,
+    /// Rotation sub-steps of the integrator (all bodies).
+    pub rotation_substeps: u64,
+    /// Smallest and largest substep, s.
+    pub dt_min: Real,
+    /// Largest substep, s.
+    pub dt_max: Real,
+    /// Contact points seen, summed over substeps.
+    pub contacts: u64,
+    /// Colliding contacts, summed over substeps.
+    pub colliding: u64,
+    /// Resting contacts, summed over substeps.
+    pub resting: u64,
+    /// Collision passes, summed.
+    pub collision_passes: u64,
+    /// Point impulses applied, summed.
+    pub impulses: u64,
+    /// Final e = 0 solves.
+    pub final_solves: u32,
+    /// Friction impulses dropped by the energy guard.
+    pub guard_events: u32,
+    /// LCP iterations / pivots, summed.
+    pub solver_iterations: u64,
+    /// Worst resting-solver residual, m/s².
+    pub solver_residual: Real,
+    /// Resting islands whose solver did not converge.
+    pub unconverged_islands: u32,
+    /// Largest island, rows.
+    pub largest_island: usize,
+    /// Largest penetration before projection, m.
+    pub max_penetration: Real,
+    /// Largest penetration after projection, m.
+    pub max_penetration_after_projection: Real,
+    /// Energies at the end and dissipation during this step.
+    pub energy: EnergyLedger,
+}
+
+struct Proximity {
+    pairs: Vec<(usize, usize)>,
+    walls: Vec<(usize, WallId)>,
+    t_safe: Real,
+    v_max: Real,
+}
+
+impl World {
+    fn lambda(&self) -> Real {
+        self.params.proximity_factor * 0.5 * self.reference_size()
+    }
+
+    /// Near pairs/walls (bounding gap ≤ λ) and the time before any other pair can come within λ/2.
+    fn proximity(&self, broad: &mut BroadPhase, horizon: Real) -> Proximity {
+        let lambda = self.lambda();
+        let g = self.params.gravity.norm();
+        let centres: Vec<Vec3> = self.bodies.iter().map(|b| b.position).collect();
+        let radii: Vec<Real> =
+            self.bodies.iter().map(|b| b.bounding_radius + lambda + b.velocity().norm() * horizon).collect();
+        let mut p = Proximity { pairs: Vec::new(), walls: Vec::new(), t_safe: Real::INFINITY, v_max: 0.0 };
+        for &(i, j) in broad.overlapping_pairs(&centres, &radii) {
+            let (bi, bj) = (&self.bodies[i as usize], &self.bodies[j as usize]);
+            let gap = (bi.position - bj.position).norm() - bi.bounding_radius - bj.bounding_radius;
+            let v_rel = (bi.velocity() - bj.velocity()).norm();
+            if gap <= lambda {
+                p.pairs.push((i as usize, j as usize));
+                let w = bi.angular_velocity().norm() * bi.bounding_radius
+                    + bj.angular_velocity().norm() * bj.bounding_radius;
+                p.v_max = p.v_max.max(v_rel + w);
+            } else if v_rel > 0.0 {
+                p.t_safe = p.t_safe.min((gap - 0.5 * lambda) / v_rel);
+            }
+        }
+        for (k, b) in self.bodies.iter().enumerate() {
+            let v = b.velocity().norm();
+            self.container.wall_gaps(&b.position, b.bounding_radius, |wall, gap| {
+                if gap <= lambda {
+                    p.walls.push((k, wall));
+                    let w = b.angular_velocity().norm() * b.bounding_radius;
+                    p.v_max = p.v_max.max(v + w + g * self.params.dt_cap);
+                } else {
+                    let s = gap - 0.5 * lambda;
+                    let t = if g > 0.0 {
+                        (-v + (v * v + 2.0 * g * s).sqrt()) / g
+                    } else if v > 0.0 {
+                        s / v
+                    } else {
+                        Real::INFINITY
+                    };
+                    p.t_safe = p.t_safe.min(t);
+                }
+            });
+        }
+        p
+    }
+
+    fn free_flight(&mut self, dt: Real, report: &mut StepReport) {
+        let g = self.params.gravity;
+        let max_rot = self.params.max_rotation_per_substep;
+        for b in &mut self.bodies {
+            let f = g * b.mass;
+            report.rotation_substeps += advance(b, &f, &Vec3::zeros(), dt, max_rot) as u64;
+        }
+    }
+
+    fn narrow_phase(&self, prox: &Proximity, max_gap: Real) -> Result<Vec<Contact>, SimError> {
+        let mut out = Vec::new();
+        for &(i, j) in &prox.pairs {
+            let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
+            let pa = Pellet { index: i, body: &self.bodies[i], shape: &self.types[ti].shape };
+            let pb = Pellet { index: j, body: &self.bodies[j], shape: &self.types[tj].shape };
+            collide_pair(pa, pb, max_gap, &mut out)?;
+        }
+        for &(k, wall) in &prox.walls {
+            let t = self.bodies[k].type_id.0 as usize;
+            let pa = Pellet { index: k, body: &self.bodies[k], shape: &self.types[t].shape };
+            collide_wall(&self.container, wall, pa, max_gap, &mut out)?;
+        }
+        Ok(out)
+    }
+
+    /// Advances the world by `dt_big` seconds (any number of internal substeps).
+    pub fn step(&mut self, dt_big: Real, pipeline: &mut Pipeline) -> Result<StepReport, SimError> {
+        if !(dt_big.is_finite() && dt_big >= 0.0) {
+            return Err(SimError::InvalidParameter {
+                name: "dt_big",
+                value: dt_big,
+                reason: "must be finite and >= 0",
+            });
+        }
+        let mut report = StepReport { dt_min: Real::INFINITY, ..StepReport::default() };
+        let t_end = self.time + dt_big;
+        let cap = self.params.dt_cap;
+        while t_end - self.time > 1e-14 * t_end.abs().max(1e-3) {
+            let remaining = t_end - self.time;
+            let mut broad = std::mem::take(&mut pipeline.broad);
+            let mut prox = self.proximity(&mut broad, remaining.min(cap));
+            if prox.pairs.is_empty() && prox.walls.is_empty() {
+                prox = self.proximity(&mut broad, remaining);
+            }
+            pipeline.broad = broad;
+            if prox.pairs.is_empty() && prox.walls.is_empty() {
+                let dt = remaining.min(prox.t_safe);
+                self.free_flight(dt, &mut report);
+                report.free_flights += 1;
+                self.time = if dt == remaining { t_end } else { self.time + dt };
+                pipeline.last_contacts.clear();
+                continue;
+            }
+            let mut dt = remaining.min(cap).min(prox.t_safe);
+            if prox.v_max > 0.0 {
+                dt = dt.min(0.2 * self.lambda() / prox.v_max);
+            }
+            self.substep(dt, &prox, pipeline, &mut report)?;
+        }
+        self.time = t_end;
+        report.energy.kinetic_translational = self.bodies.iter().map(Body::kinetic_translational).sum();
+        report.energy.kinetic_rotational = self.bodies.iter().map(Body::kinetic_rotational).sum();
+        report.energy.potential = self.potential_energy();
+        self.totals.accumulate(&report.energy);
+        if report.dt_min == Real::INFINITY {
+            report.dt_min = 0.0;
+        }
+        Ok(report)
+    }
+
+    fn substep(
+        &mut self,
+        dt0: Real,
+        prox: &Proximity,
+        pipeline: &mut Pipeline,
+        report: &mut StepReport,
+    ) -> Result<(), SimError> {
+        let d = self.reference_size();
+        let delta_c = self.params.contact_distance_factor * d;
+        let slop = self.params.slop_factor * d;
+        let pen_max = self.params.max_penetration_factor * d;
+        pipeline.saved.clone_from(&self.bodies);
+        let mut dt = dt0;
+        let mut rewinds = 0;
+        loop {
+            // Generate contacts a little ahead: up to the distance a pair can close in dt.
+            let contacts = self.narrow_phase(prox, delta_c + prox.v_max * dt)?;
+            let (cor, mu): (Vec<Real>, Vec<Real>) = contacts
+                .iter()
+                .map(|c| match c.b {
+                    Counterpart::Body(_) => (self.material.cor, self.material.friction),
+                    Counterpart::Wall(_) => (self.wall_material.cor, self.wall_material.friction),
+                })
+                .unzip();
+            let coll = collision_phase(&mut self.bodies, &contacts, &cor, &mu, &self.params, dt, delta_c);
+            let warm = &pipeline.warm;
+            let warm_fn = |k: &ContactKey| warm.binary_search_by(|e| e.0.cmp(k)).map_or(0.0, |i| warm[i].1);
+            let (forces, rest) = resting_phase(&self.bodies, &contacts, &mu, &self.params, dt, delta_c, &warm_fn);
+            let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity(c, &self.bodies)).collect();
+            let g = self.params.gravity;
+            let max_rot = self.params.max_rotation_per_substep;
+            let mut rot_steps = 0u64;
+            for (b, w) in self.bodies.iter_mut().zip(&forces.wrench) {
+                let f = g * b.mass + w.0;
+                rot_steps += advance(b, &f, &w.1, dt, max_rot) as u64;
+            }
+            // Work of resting friction: force times the mean slip velocity over the substep.
+            let mut friction_work = 0.0;
+            for (i, c) in contacts.iter().enumerate() {
+                let ff = forces.friction[i];
+                if ff == Vec3::zeros() {
+                    continue;
+                }
+                let u1 = relative_velocity(c, &self.bodies);
+                friction_work += ff.dot(&(0.5 * (u0[i] + u1))) * dt;
+            }
+            let (types, container) = (&self.types, &self.container);
+            let eval = |bodies: &[Body], c: &Contact| reevaluate(types, container, bodies, c);
+            let mut bodies = std::mem::take(&mut self.bodies);
+            let proj = project_positions(&mut bodies, &contacts, &eval, slop, 0.01 * d, &g);
+            self.bodies = bodies;
+            if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
+                self.bodies.clone_from(&pipeline.saved);
+                dt *= 0.5;
+                rewinds += 1;
+                report.rewinds += 1;
+                continue;
+            }
+            if let Some(k) = self.bodies.iter().position(|b| !b.is_finite()) {
+                return Err(SimError::NonFiniteState(k as u32));
+            }
+            report.rotation_substeps += rot_steps;
+            report.substeps += 1;
+            report.dt_min = report.dt_min.min(dt);
+            report.dt_max = report.dt_max.max(dt);
+            report.contacts += contacts.len() as u64;
+            report.colliding += coll.colliding as u64;
+            report.resting += rest.resting as u64;
+            report.collision_passes += coll.passes as u64;
+            report.impulses += coll.impulses as u64;
+            report.final_solves += coll.final_solve as u32;
+            report.guard_events += coll.guard_events;
+            report.solver_iterations += (coll.solver_iterations + rest.solver_iterations) as u64;
+            report.solver_residual = report.solver_residual.max(rest.residual);
+            report.unconverged_islands += rest.unconverged as u32;
+            report.largest_island = report.largest_island.max(rest.largest_island);
+            report.max_penetration = report.max_penetration.max(proj.max_penetration_before);
+            report.max_penetration_after_projection =
+                report.max_penetration_after_projection.max(proj.max_penetration_after);
+            let e = &mut report.energy;
+            e.removed_by_collisions += coll.normal_loss;
+            e.removed_by_friction += coll.friction_loss - friction_work;
+            e.removed_by_projection -= proj.potential_change;
+            e.resting_normal_work += rest.normal_work;
+            e.resting_work_bound += rest.normal_work_bound;
+            pipeline.warm = contacts
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| forces.normal[i] > 0.0)
+                .map(|(i, c)| (c.key, forces.normal[i]))
+                .collect();
+            pipeline.warm.sort_by_key(|e| e.0);
+            pipeline.last_contacts = contacts
+                .into_iter()
+                .enumerate()
+                .map(|(i, contact)| ContactRecord {
+                    contact,
+                    normal_force: forces.normal[i],
+                    friction_force: forces.friction[i],
+                })
+                .collect();
+            self.time += dt;
+            return Ok(());
+        }
+    }
+}
+
+/// Re-evaluates a contact's pair at the given poses (the narrow phase for that pair only).
+fn reevaluate(types: &[BodyType], container: &Container, bodies: &[Body], c: &Contact) -> Option<Contact> {
+    let mut out = Vec::with_capacity(1);
+    let a = &bodies[c.a];
+    let pa = Pellet { index: c.a, body: a, shape: &types[a.type_id.0 as usize].shape };
+    let res = match c.b {
+        Counterpart::Body(j) => {
+            let b = &bodies[j];
+            let pb = Pellet { index: j, body: b, shape: &types[b.type_id.0 as usize].shape };
+            collide_pair(pa, pb, Real::INFINITY, &mut out)
+        }
+        Counterpart::Wall(w) => collide_wall(container, w, pa, Real::INFINITY, &mut out),
+    };
+    res.ok()?;
+    out.into_iter().find(|x| x.key == c.key)
+}

@@ -1,0 +1,166 @@
+//! The serialisable world: bodies, types, container, materials, parameters, time.
+
+use super::ledger::EnergyLedger;
+use crate::body::{Body, BodyId, TypeId};
+use crate::container::Container;
+use crate::error::SimError;
+use crate::math::{Quat, Real, Vec3};
+use crate::params::{EngineParams, Material, WallMaterial};
+use crate::shape::BodyType;
+use serde::{Deserialize, Serialize};
+
+/// Everything that defines a simulation's state. Scratch buffers live in
+/// [`crate::Pipeline`], which is not serialised.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct World {
+    pub(crate) params: EngineParams,
+    pub(crate) container: Container,
+    pub(crate) material: Material,
+    pub(crate) wall_material: WallMaterial,
+    pub(crate) types: Vec<BodyType>,
+    pub(crate) bodies: Vec<Body>,
+    pub(crate) time: Real,
+    /// Dissipation totals since the start.
+    pub(crate) totals: EnergyLedger,
+}
+
+impl World {
+    /// A world with no bodies. Validates every input.
+    pub fn new(
+        container: Container,
+        material: Material,
+        wall_material: WallMaterial,
+        params: EngineParams,
+    ) -> Result<Self, SimError> {
+        params.validate()?;
+        material.validate()?;
+        wall_material.validate()?;
+        container.validate(0.0)?;
+        Ok(Self {
+            params,
+            container,
+            material,
+            wall_material,
+            types: Vec::new(),
+            bodies: Vec::new(),
+            time: 0.0,
+            totals: EnergyLedger::default(),
+        })
+    }
+
+    /// Registers a pellet type; fails for unsupported shapes or a tube too narrow for it.
+    pub fn register_type(&mut self, body_type: BodyType) -> Result<TypeId, SimError> {
+        body_type.validate()?;
+        self.container.validate(body_type.bounding_radius_m)?;
+        self.types.push(body_type);
+        Ok(TypeId(self.types.len() as u32 - 1))
+    }
+
+    /// Adds a pellet at `position` with `orientation` and velocities; it must lie inside the
+    /// container.
+    pub fn add_body(
+        &mut self,
+        type_id: TypeId,
+        position: Vec3,
+        orientation: Quat,
+        linear_velocity: Vec3,
+        angular_velocity: Vec3,
+    ) -> Result<BodyId, SimError> {
+        let ty = self.types.get(type_id.0 as usize).ok_or(SimError::UnknownBodyType(type_id.0))?;
+        let all_finite =
+            position.iter().chain(linear_velocity.iter()).chain(angular_velocity.iter()).all(|v| v.is_finite())
+                && orientation.coords.iter().all(|v| v.is_finite());
+        if !all_finite || !self.container.contains_sphere(&position, contact_radius(ty)) {
+            return Err(SimError::OutsideContainer { x: position.x, y: position.y, z: position.z });
+        }
+        let density = self.material.density;
+        let inertia_body = ty.inertia_per_density_m5 * density;
+        let inv_inertia_body = inertia_body.try_inverse().ok_or(SimError::InvalidParameter {
+            name: "inertia_per_density_m5",
+            value: 0.0,
+            reason: "not invertible",
+        })?;
+        let mass = ty.volume_m3 * density;
+        let mut body = Body {
+            type_id,
+            position,
+            orientation,
+            linear_momentum: linear_velocity * mass,
+            angular_momentum: Vec3::zeros(),
+            mass,
+            inertia_body,
+            inv_inertia_body,
+            bounding_radius: ty.bounding_radius_m,
+        };
+        body.angular_momentum = body.inertia_world() * angular_velocity;
+        self.bodies.push(body);
+        Ok(BodyId(self.bodies.len() as u32 - 1))
+    }
+
+    /// Read access to the bodies.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// One body.
+    pub fn body(&self, id: BodyId) -> Option<&Body> {
+        self.bodies.get(id.0 as usize)
+    }
+
+    /// Mutable access for tests and set-up (e.g. to change a velocity between steps).
+    pub fn body_mut(&mut self, id: BodyId) -> Option<&mut Body> {
+        self.bodies.get_mut(id.0 as usize)
+    }
+
+    /// Registered types.
+    pub fn types(&self) -> &[BodyType] {
+        &self.types
+    }
+
+    /// The container.
+    pub fn container(&self) -> &Container {
+        &self.container
+    }
+
+    /// Parameters.
+    pub fn params(&self) -> &EngineParams {
+        &self.params
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> Real {
+        self.time
+    }
+
+    /// Total kinetic energy, J.
+    pub fn kinetic_energy(&self) -> Real {
+        self.bodies.iter().map(|b| b.kinetic_translational() + b.kinetic_rotational()).sum()
+    }
+
+    /// Total potential energy −Σ m g·x, J.
+    pub fn potential_energy(&self) -> Real {
+        self.bodies.iter().map(|b| b.potential(&self.params.gravity)).sum()
+    }
+
+    /// Current energies plus the dissipation totals since the start.
+    pub fn energy(&self) -> EnergyLedger {
+        let mut l = self.totals;
+        l.kinetic_translational = self.bodies.iter().map(Body::kinetic_translational).sum();
+        l.kinetic_rotational = self.bodies.iter().map(Body::kinetic_rotational).sum();
+        l.potential = self.potential_energy();
+        l
+    }
+
+    /// Reference pellet size d = twice the largest bounding radius (0 without types).
+    pub fn reference_size(&self) -> Real {
+        2.0 * self.types.iter().map(|t| t.bounding_radius_m).fold(0.0, Real::max)
+    }
+}
+
+/// The radius used to check placement: the sphere radius for spheres, else the bounding radius.
+fn contact_radius(ty: &BodyType) -> Real {
+    match ty.shape {
+        crate::shape::ShapeDesc::Sphere { radius } => radius,
+        _ => ty.bounding_radius_m,
+    }
+}

@@ -1,0 +1,321 @@
+//! `pack`: drops pellets into a tube with the rigid-body engine and
+//! streams the trajectory to an MCAP archive.
+
+use std::io::IsTerminal;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context};
+use clap::Parser;
+
+use pellet_cli::Outcome;
+use pellet_io::{EnergyRecord, Frame, Provenance, TrajectoryHeader, TrajectoryWriter};
+use pellet_pack::{check_setup, run_pack, Ending, LoadingScheme, PackConfig, PackOptions, Progress, RunSink};
+
+const EXAMPLES: &str = "\
+Examples:
+  pack --pellet c.pellet --tube-diameter 69.83 --fill-height 120 --seed 1 -o bed.mcap
+  pack --pellet s.pellet --tube-diameter 40 --count 40 -o small.mcap --quiet
+  pack --case cases/cyl-N7.toml --seed 3 -o bed.mcap      (flags override the case file)
+  pack --pellet r.pellet --tube-diameter 40.45 --count 200 --scheme four-columns --cor 0.6 -o r.mcap
+
+A case file (TOML, or JSON starting with '{') holds any of the flags below,
+spelled the same: tube-diameter = 69.83, fill-height = 120, scheme = \"sock\", ...
+Lengths in mm, times in s, angles in degrees. Then: settle-check bed.mcap -o bed.packing.
+Exit codes: 0 settled, 2 error (also: time limit reached before settling, or interrupted;
+the trajectory is complete and readable in every case).";
+
+/// Drop pellets into a tube with the hard-contact rigid-body engine until the
+/// bed settles, streaming the trajectory to an MCAP file.
+#[derive(Debug, Parser)]
+#[command(name = "pack", version, after_help = EXAMPLES, allow_negative_numbers = true)]
+pub struct Args {
+    /// Case file (TOML or JSON) with any of the parameters below.
+    #[arg(long, value_name = "FILE")]
+    case: Option<String>,
+    /// Pellet file made by mkpellet.
+    #[arg(long, value_name = "FILE")]
+    pellet: Option<String>,
+    /// Trajectory to write (MCAP) [required here or in the case file].
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<String>,
+    /// Tube inner diameter (mm).
+    #[arg(long, value_name = "MM")]
+    tube_diameter: Option<f64>,
+    /// Number of pellets to load.
+    #[arg(long, value_name = "N")]
+    count: Option<u32>,
+    /// Or: load until the bed surface reaches this height (mm).
+    #[arg(long, value_name = "MM")]
+    fill_height: Option<f64>,
+    /// Random seed (disturbances, scheme positions) [default: 1].
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Pellet–pellet coefficient of restitution, 0–1 [default: 0.9].
+    #[arg(long)]
+    cor: Option<f64>,
+    /// Pellet–pellet friction coefficient [default: 0.1].
+    #[arg(long)]
+    friction: Option<f64>,
+    /// Pellet–wall and pellet–floor coefficient of restitution, 0–1 [default: 0.6].
+    #[arg(long)]
+    wall_cor: Option<f64>,
+    /// Pellet–wall and pellet–floor friction coefficient [default: 0.6].
+    #[arg(long)]
+    wall_friction: Option<f64>,
+    /// Pellet density (kg/m³) [default: 8030].
+    #[arg(long, value_name = "KG/M3")]
+    density: Option<f64>,
+    /// Height of a new pellet's centre above the bed surface, or the floor (mm) [default: 30].
+    #[arg(long, value_name = "MM")]
+    drop_height: Option<f64>,
+    /// Loading scheme [default: one-column].
+    #[arg(long, value_enum)]
+    scheme: Option<SchemeArg>,
+    /// Tilt of the pellet axis from vertical in the column schemes (degrees) [default: 45].
+    #[arg(long, value_name = "DEG")]
+    tilt: Option<f64>,
+    /// Largest random horizontal shift of the entry point (fraction of dpv, e.g. 0.8) [default: 0.1].
+    #[arg(long, value_name = "FRACTION")]
+    position_jitter: Option<f64>,
+    /// Largest random rotation of the entry orientation (degrees, e.g. 45) [default: 5].
+    #[arg(long, value_name = "DEG")]
+    angle_jitter: Option<f64>,
+    /// Shortest time between two pellets entering (s) [default: 0.02].
+    #[arg(long, value_name = "S")]
+    spacing: Option<f64>,
+    /// Interval between recorded pose frames (s) [default: 0.01].
+    #[arg(long, value_name = "S")]
+    record_every: Option<f64>,
+    /// Record pellet velocities in the pose frames.
+    #[arg(long)]
+    record_velocities: bool,
+    /// Simulated time limit (s) [default: 120].
+    #[arg(long, value_name = "S")]
+    max_time: Option<f64>,
+    /// Settle-test window (s) [default: 0.15].
+    #[arg(long, value_name = "S")]
+    settle_window: Option<f64>,
+    /// Settle-test tolerance on the kinetic-energy change over the window (fraction) [default: 0.001].
+    #[arg(long, value_name = "FRACTION")]
+    settle_tolerance: Option<f64>,
+    /// Settle-test bound on the fastest pellet's speed (m/s) [default: 0.001].
+    #[arg(long, value_name = "M/S")]
+    max_speed: Option<f64>,
+    /// No progress output.
+    #[arg(short, long)]
+    quiet: bool,
+}
+
+/// Loading schemes, as spelled on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum SchemeArg {
+    /// One column on the tube axis (the paper's scheme 1).
+    OneColumn,
+    /// Two columns equidistant from the axis.
+    TwoColumns,
+    /// Four columns equidistant from the axis.
+    FourColumns,
+    /// Sock loading: low drop, random places and orientations (loose beds).
+    Sock,
+    /// Dense loading: high drop, spread over the cross-section (dense beds).
+    Dense,
+}
+
+impl From<SchemeArg> for LoadingScheme {
+    fn from(s: SchemeArg) -> Self {
+        match s {
+            SchemeArg::OneColumn => LoadingScheme::OneColumn,
+            SchemeArg::TwoColumns => LoadingScheme::TwoColumns,
+            SchemeArg::FourColumns => LoadingScheme::FourColumns,
+            SchemeArg::Sock => LoadingScheme::Sock,
+            SchemeArg::Dense => LoadingScheme::Dense,
+        }
+    }
+}
+
+impl Args {
+    fn options(&self) -> PackOptions {
+        PackOptions {
+            pellet: self.pellet.clone(),
+            output: self.output.clone(),
+            tube_diameter: self.tube_diameter,
+            count: self.count,
+            fill_height: self.fill_height,
+            seed: self.seed,
+            cor: self.cor,
+            friction: self.friction,
+            wall_cor: self.wall_cor,
+            wall_friction: self.wall_friction,
+            density: self.density,
+            drop_height: self.drop_height,
+            record_every: self.record_every,
+            max_time: self.max_time,
+            scheme: self.scheme.map(Into::into),
+            tilt: self.tilt,
+            position_jitter: self.position_jitter,
+            angle_jitter: self.angle_jitter,
+            spacing: self.spacing,
+            settle_window: self.settle_window,
+            settle_tolerance: self.settle_tolerance,
+            max_speed: self.max_speed,
+            record_velocities: self.record_velocities.then_some(true),
+        }
+    }
+}
+
+/// Runs `pack`.
+pub fn run(args: Args) -> anyhow::Result<Outcome> {
+    let base = match &args.case {
+        Some(path) => {
+            let text =
+                String::from_utf8(pellet_io::read_input(path)?).with_context(|| format!("{path}: not UTF-8 text"))?;
+            PackOptions::from_case_file(&text, path)?
+        }
+        None => PackOptions::default(),
+    };
+    let options = base.overlay(args.options());
+    let config = PackConfig::resolve(&options)?;
+    let output =
+        options.output.clone().context("give the trajectory file with -o FILE (or `output` in the case file)")?;
+    if output == "-" {
+        bail!("pack writes its trajectory to a file (it is renamed into place when complete); give -o FILE");
+    }
+    let pellet_bytes = pellet_io::read_input(&config.pellet)?;
+    let pellet = pellet_io::decode_pellet(&pellet_bytes, &config.pellet)?.pellet;
+
+    let provenance = Provenance {
+        tool: "pack".into(),
+        version: env!("CARGO_PKG_VERSION").into(),
+        args: std::env::args().skip(1).collect(),
+    };
+    let mut config_json = serde_json::to_value(&config)?;
+    config_json["density_kg_m3"] = config.density_kg_m3.into();
+    let config_text = serde_json::to_string(&config_json)?;
+    let tube = pellet_geom::Tube { diameter: config.tube_diameter_m, lid_height: None };
+    let files = [pellet_bytes];
+    let header = TrajectoryHeader {
+        provenance: &provenance,
+        config_json: &config_text,
+        seed: config.seed,
+        pellet_files: &files,
+        tube: &tube,
+    };
+    // Check everything the engine checks before creating the output.
+    check_setup(&config, &pellet)?;
+    let writer = TrajectoryWriter::create(Path::new(&output), &header)?;
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        // Ctrl-C or SIGTERM: finish the step, then close the archive cleanly.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
+    }
+    let mut sink = McapSink::new(writer, stop, args.quiet);
+    let result = run_pack(&config, &pellet, &mut sink);
+    let McapSink { writer, bar, .. } = sink;
+    if let Some(bar) = bar {
+        bar.finish_and_clear();
+    }
+    let summary = match result {
+        Ok(s) => s,
+        Err(e) => {
+            // Keep what was simulated as evidence, but never over an existing output.
+            let part = writer.part_path().display().to_string();
+            drop(writer);
+            bail!("{e} (the trajectory up to the failure is in {part})");
+        }
+    };
+    let path = writer.finish()?;
+    let line = format!(
+        "pack: {} pellets, {:.3} s simulated, {} engine substeps, max penetration {:.2} % of dpv; wrote {}",
+        summary.pellets,
+        summary.time_s,
+        summary.substeps,
+        100.0 * summary.max_penetration_m / pellet.properties.equivalent_diameter,
+        path.display()
+    );
+    if !args.quiet {
+        eprintln!("{line}");
+    }
+    match summary.ending {
+        Ending::Settled => {
+            println!("settled at {:.4} s", summary.settle.settle_time_s.unwrap_or(summary.time_s));
+            Ok(Outcome::Success)
+        }
+        Ending::TimeLimit => bail!(
+            "the bed did not settle within --max-time {} s ({}); the trajectory is in {output}",
+            config.max_time_s,
+            summary.settle.reason.unwrap_or_default()
+        ),
+        Ending::Interrupted => {
+            bail!("interrupted at t = {:.3} s; the trajectory so far is in {output}", summary.time_s)
+        }
+    }
+}
+
+/// Writes frames and energy records to the MCAP file and shows progress.
+struct McapSink {
+    writer: TrajectoryWriter,
+    stop: Arc<AtomicBool>,
+    bar: Option<indicatif::ProgressBar>,
+    quiet: bool,
+    last_line: Instant,
+    last_flush: f64,
+}
+
+impl McapSink {
+    fn new(writer: TrajectoryWriter, stop: Arc<AtomicBool>, quiet: bool) -> Self {
+        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+            let bar = indicatif::ProgressBar::new_spinner();
+            bar.enable_steady_tick(Duration::from_millis(200));
+            bar
+        });
+        McapSink { writer, stop, bar, quiet, last_line: Instant::now(), last_flush: 0.0 }
+    }
+}
+
+impl RunSink for McapSink {
+    fn frame(&mut self, frame: &Frame) -> Result<(), String> {
+        self.writer.write_frame(frame).map_err(|e| e.to_string())?;
+        // Close the chunk once per simulated second: a killed run loses at most that.
+        if frame.time_s - self.last_flush >= 1.0 {
+            self.last_flush = frame.time_s;
+            self.writer.flush().map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    fn energy(&mut self, record: &EnergyRecord) -> Result<(), String> {
+        self.writer.write_energy(record).map_err(|e| e.to_string())
+    }
+
+    fn progress(&mut self, p: &Progress) {
+        if self.quiet {
+            return;
+        }
+        let of = p.target.map(|n| format!("/{n}")).unwrap_or_default();
+        let msg = format!(
+            "t = {:.2} s  pellets {}{of}  bed top {:.1} mm  kinetic energy {:.3e} J",
+            p.time_s,
+            p.pellets,
+            p.bed_top_m * 1e3,
+            p.kinetic_j
+        );
+        match &self.bar {
+            Some(bar) => bar.set_message(msg),
+            None => {
+                // Not a terminal (make, CI): a plain line every few seconds.
+                if self.last_line.elapsed() >= Duration::from_secs(5) {
+                    self.last_line = Instant::now();
+                    eprintln!("pack: {msg}");
+                }
+            }
+        }
+    }
+
+    fn should_stop(&self) -> bool {
+        self.stop.load(Ordering::SeqCst)
+    }
+}
