@@ -59,7 +59,7 @@ fn register_fonts() {
 
 /// Colours for simulated series, then references (distinct on white).
 const SERIES_COLORS: [RGBColor; 3] = [RGBColor(0, 0, 0), RGBColor(90, 90, 90), RGBColor(150, 150, 150)];
-const REF_COLORS: [RGBColor; 8] = [
+const REF_COLORS: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -68,6 +68,8 @@ const REF_COLORS: [RGBColor; 8] = [
     RGBColor(140, 86, 75),
     RGBColor(227, 119, 194),
     RGBColor(23, 190, 207),
+    RGBColor(188, 189, 34),
+    RGBColor(0, 80, 120),
 ];
 
 impl Chart<'_> {
