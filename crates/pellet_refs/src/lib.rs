@@ -33,6 +33,7 @@ pub mod bulk;
 pub mod metrics;
 pub mod radial;
 pub mod registry;
+mod score;
 pub mod scoring;
 mod special;
 

@@ -399,3 +399,60 @@ fn bad_input_is_a_one_line_error_with_exit_2_and_no_report() {
     // A usage error (clap) is exit 2 too.
     assert_eq!(compare(p, &["ok.csv"]).status.code(), Some(2));
 }
+
+fn dixon_cylinders(n: f64) -> f64 {
+    let x = 1.0 / n;
+    if x <= 0.6 {
+        0.36 + 0.10 * x + 0.70 * x * x
+    } else if x <= 0.7 {
+        0.677 - 9.0 * (x - 0.625).powi(2)
+    } else {
+        1.0 - 0.763 * x * x
+    }
+}
+
+#[test]
+fn cylinders_and_rings_use_each_correlations_own_n() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path();
+    // Equilateral cylinder d = h = 10 mm: dpv = (1.5 d² h)^(1/3).
+    let dpv = (1.5f64 * 1000.0).cbrt();
+    let d = 60.0;
+    let s = serde_json::json!({
+        "bulk_porosity": 0.40, "shape": "cylinder", "pellet_diameter_mm": 10.0, "dpv_mm": dpv,
+        "tube_diameter_mm": d, "N": d / 10.0, "N_dpv": d / dpv
+    });
+    std::fs::write(p.join("cyl.json"), s.to_string()).unwrap();
+    let out = compare(p, &["--summary", "cyl.json", "--ref", "dixon,foumeny,pushnov", "-o", "c"]);
+    assert_exit(&out, 0);
+    let sc = scores(&p.join("c"));
+    let dx = find(&sc, "dixon-1988");
+    close(&dx["beds"][0]["N"], d / dpv, 1e-12);
+    close(&dx["predicted"], dixon_cylinders(d / dpv), 1e-14);
+    assert_eq!((dx["n_definition"].as_str(), dx["valid"].as_bool()), (Some("N = D/dpv"), Some(true)));
+    // A sphere correlation on a cylinder bed: computed, flagged.
+    let f = find(&sc, "foumeny-1993");
+    assert_eq!(f["valid"], false);
+    assert!(f["notes"][0].as_str().unwrap().contains("correlation for spheres, bed of cylinders"));
+    close(&find(&sc, "pushnov-2006")["predicted"], 0.9198 / 36.0 + 0.3414, 1e-14);
+
+    // Rings 10/5 × 10 mm: the envelope estimate uses N of the envelope cylinder.
+    let ring_dpv = dpv * (0.75f64).cbrt();
+    let s = serde_json::json!({
+        "bulk_porosity": 0.6, "shape": "ring", "pellet_diameter_mm": 10.0, "dpv_mm": ring_dpv,
+        "tube_diameter_mm": d, "N": 6.0, "N_dpv": d / ring_dpv
+    });
+    std::fs::write(p.join("ring.json"), s.to_string()).unwrap();
+    let out = compare(p, &["--summary", "ring.json", "-o", "r"]);
+    assert_error(
+        &out,
+        "ring-envelope-dixon needs N = D/dpv(envelope cylinder) for ring.json (give N_dpv and the rings' di/do)",
+    );
+    let out = compare(p, &["--summary", "ring.json", "--ring-di-do", "0.5", "-o", "r"]);
+    assert_exit(&out, 0);
+    let sc = scores(&p.join("r"));
+    let ring = find(&sc, "ring-envelope-dixon");
+    close(&ring["beds"][0]["N"], d / dpv, 1e-9);
+    close(&ring["predicted"], 1.0 - (1.0 - dixon_cylinders(d / dpv)) * 0.75, 1e-9);
+    assert!(p.join("r/porosity_vs_n.png").exists());
+}
