@@ -88,22 +88,26 @@ impl Inputs {
             info.inputs.push(("experimental profile".into(), shown(path)));
         }
         let first = summaries.first().map(|(_, s)| s.clone()).unwrap_or_default();
-        let from_profile_d = tables.first().and_then(inputs::tube_diameter_from_columns);
+        let hints = tables.first().map_or_else(Hints::default, |t| Hints {
+            d: inputs::tube_diameter_from_columns(t),
+            dp: inputs::length_from_columns(t, "dp"),
+            dpv: inputs::length_from_columns(t, "dpv"),
+        });
         let mut beds = Vec::new();
         if summaries.is_empty() {
             let source = profile_paths.first().map_or("flags".into(), |p| shown(p));
-            beds.push(bed_from(args, &Summary::default(), source, from_profile_d, &mut info)?);
+            beds.push(bed_from(args, &Summary::default(), source, hints, &mut info)?);
         } else {
             for (i, (source, s)) in summaries.iter().enumerate() {
-                let d = if i == 0 { from_profile_d } else { None };
+                let h = if i == 0 { hints } else { Hints::default() };
                 let mut scratch = Info::default();
                 let info_for = if i == 0 { &mut info } else { &mut scratch };
-                beds.push(bed_from(args, s, source.clone(), d, info_for)?);
+                beds.push(bed_from(args, s, source.clone(), h, info_for)?);
             }
         }
         let shape = beds[0].shape;
-        let dp = args.dp.or(first.pellet_diameter_mm);
-        let dpv = args.dpv.or(first.dpv_mm).or(if shape == Shape::Sphere { dp } else { None });
+        let dp = args.dp.or(first.pellet_diameter_mm).or(hints.dp);
+        let dpv = args.dpv.or(first.dpv_mm).or(hints.dpv).or(if shape == Shape::Sphere { dp } else { None });
         let profile = if tables.is_empty() {
             None
         } else {
@@ -138,7 +142,15 @@ impl Inputs {
     }
 }
 
-fn bed_from(args: &Args, s: &Summary, source: String, profile_d: Option<f64>, info: &mut Info) -> Result<Bed> {
+/// What a profile's columns imply about its bed (mm).
+#[derive(Clone, Copy, Debug, Default)]
+struct Hints {
+    d: Option<f64>,
+    dp: Option<f64>,
+    dpv: Option<f64>,
+}
+
+fn bed_from(args: &Args, s: &Summary, source: String, hints: Hints, info: &mut Info) -> Result<Bed> {
     let shape = match (args.shape, &s.shape) {
         (Some(a), _) => a.into(),
         (None, Some(name)) => {
@@ -156,11 +168,20 @@ fn bed_from(args: &Args, s: &Summary, source: String, profile_d: Option<f64>, in
     let (d, d_from) = first_of(&[
         (args.tube_diameter, "--tube-diameter"),
         (s.tube_diameter_mm, "summary"),
-        (profile_d, "profile: r_mm + wall_distance_mm"),
+        (hints.d, "profile: r_mm + wall_distance_mm"),
     ]);
-    let (dp, dp_from) = first_of(&[(args.dp, "--dp"), (s.pellet_diameter_mm, "summary")]);
+    let (dp, dp_from) = first_of(&[
+        (args.dp, "--dp"),
+        (s.pellet_diameter_mm, "summary"),
+        (hints.dp, "profile: wall_distance_mm / wall_distance_dp"),
+    ]);
     let sphere_dp = if shape == Shape::Sphere { dp } else { None };
-    let (dpv, dpv_from) = first_of(&[(args.dpv, "--dpv"), (s.dpv_mm, "summary"), (sphere_dp, "= dp for spheres")]);
+    let (dpv, dpv_from) = first_of(&[
+        (args.dpv, "--dpv"),
+        (s.dpv_mm, "summary"),
+        (hints.dpv, "profile: wall_distance_mm / wall_distance_dpv"),
+        (sphere_dp, "= dp for spheres"),
+    ]);
     let (n_dp, n_dp_from) = match (d, dp) {
         (Some(d), Some(dp)) => (Some(d / dp), "D/dp"),
         _ => (s.n, "summary"),

@@ -95,6 +95,20 @@ pub fn tube_diameter_from_columns(table: &Table) -> Option<f64> {
     (d.is_finite() && d > 0.0).then_some(d)
 }
 
+/// The pellet length (mm) implied by `wall_distance_mm / wall_distance_{unit}`
+/// (`unit` = `dp` or `dpv`), from the row farthest from the wall, where the
+/// CSV's rounding matters least.
+pub fn length_from_columns(table: &Table, unit_name: &str) -> Option<f64> {
+    let mm = table.column("wall_distance_mm")?;
+    let z = table.column(&format!("wall_distance_{unit_name}"))?;
+    let (m, z) = mm
+        .iter()
+        .zip(&z)
+        .filter(|(m, z)| m.is_finite() && z.is_finite() && **m > 0.0 && **z > 0.0)
+        .max_by(|a, b| a.1.total_cmp(b.1))?;
+    Some(m / z)
+}
+
 /// A profile's columns: wall distance, void fraction, optional spread.
 pub type Rows = (Vec<f64>, Vec<f64>, Option<Vec<f64>>);
 
@@ -156,6 +170,7 @@ mod tests {
                    24,1,0.1,0.1,0.7\n25,0,0,0,1\n";
         let t = Table::parse("p.csv", csv.as_bytes()).unwrap();
         assert_eq!(tube_diameter_from_columns(&t), Some(50.0));
+        assert_eq!(length_from_columns(&t, "dp"), Some(10.0));
         let z = wall_distance(&t, "dp", None, "--dp").unwrap();
         let (z, e, s) = sorted_rows(z, void_fraction(&t).unwrap(), None);
         assert_eq!((z, e, s), (vec![0.0, 0.1], vec![1.0, 0.7], None));

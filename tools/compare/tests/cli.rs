@@ -375,6 +375,7 @@ fn bad_input_is_a_one_line_error_with_exit_2_and_no_report() {
     std::fs::write(p.join("blank.csv"), "").unwrap();
     std::fs::write(p.join("text.csv"), "wall_distance_dp,void_fraction\n0,abc\n").unwrap();
     std::fs::write(p.join("bad.json"), "{not json").unwrap();
+    std::fs::write(p.join("zonly.csv"), "wall_distance_dp,void_fraction\n0,1\n0.5,0.3\n1,0.5\n").unwrap();
     let cases: &[(&[&str], &str)] = &[
         (&["nocol.csv", "--ref", "de-klerk", "--eps-b", "0.4"], "nocol.csv: missing column void_fraction"),
         (&["nowall.csv", "--ref", "de-klerk", "--eps-b", "0.4"], "missing column wall_distance_dp"),
@@ -384,8 +385,9 @@ fn bad_input_is_a_one_line_error_with_exit_2_and_no_report() {
         (&["ok.csv", "--ref", "de-klerk,nosuch-1999", "--eps-b", "0.4"], "unknown reference \"nosuch-1999\""),
         (&["missing.csv"], "missing.csv"),
         (&["ok.csv", "--summary", "bad.json"], "bad.json: not a voidprof summary"),
-        (&["ok.csv", "--ref", "mueller"], "mueller-1992 needs N"),
-        (&["ok.csv", "--ref", "de-klerk"], "needs the bed's bulk porosity"),
+        // Without the mm columns nothing gives N or the bulk porosity.
+        (&["zonly.csv", "--ref", "mueller"], "mueller-1992 needs N"),
+        (&["zonly.csv", "--ref", "de-klerk"], "needs the bed's bulk porosity"),
         (&["--summary", "bad.json", "--fail-above", "rsme=0.1"], "unknown metric \"rsme\""),
         (&["ok.csv", "--dp", "-3"], "--dp must be a finite number > 0 mm"),
         (&[], "nothing to compare"),
@@ -455,4 +457,27 @@ fn cylinders_and_rings_use_each_correlations_own_n() {
     close(&ring["beds"][0]["N"], d / dpv, 1e-9);
     close(&ring["predicted"], 1.0 - (1.0 - dixon_cylinders(d / dpv)) * 0.75, 1e-9);
     assert!(p.join("r/porosity_vs_n.png").exists());
+}
+
+#[test]
+fn a_voidprof_profile_alone_is_enough() {
+    // D from r_mm + wall_distance_mm, dp from wall_distance_mm / wall_distance_dp,
+    // bulk porosity from the profile's cross-section mean.
+    let dir = tempfile::tempdir().unwrap();
+    let (z, eps) = write_profile(&dir.path().join("profile.csv"), 0.0);
+    let out = compare(dir.path(), &["profile.csv", "--ref", "dixon-spheres,de-klerk,mueller-1992", "-o", "report/"]);
+    assert_exit(&out, 0);
+    let s = scores(&dir.path().join("report"));
+    close(&find(&s, "mueller-1992")["N"], 6.0, 1e-9);
+    // Area-weighted trapezoid over r = R − z·dp, in dp units (R = 3).
+    let (mut num, mut den) = (0.0, 0.0);
+    for i in 1..z.len() {
+        let (r0, r1) = (3.0 - z[i - 1], 3.0 - z[i]);
+        num += 0.5 * (eps[i - 1] * r0 + eps[i] * r1) * (r0 - r1);
+        den += 0.5 * (r0 + r1) * (r0 - r1);
+    }
+    close(&find(&s, "dixon-1988")["simulated"], num / den, 1e-12);
+    assert_eq!(find(&s, "de-klerk-2003")["eps_b_method"], "fitted");
+    let report = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
+    assert!(report.contains("the profile's cross-section mean"), "{report}");
 }
