@@ -160,6 +160,9 @@ pub fn run(args: Args) -> Result<Outcome> {
         return Ok(Outcome::Success);
     }
     let out_dir = args.output.clone().context("-o DIR is required")?;
+    if out_dir.as_os_str() == "-" {
+        bail!("-o takes a directory (the report has several files), not - for stdout");
+    }
     for (flag, v) in [("--dp", args.dp), ("--dpv", args.dpv), ("--tube-diameter", args.tube_diameter)] {
         if let Some(v) = v {
             positive_mm(flag, v)?;
@@ -209,24 +212,16 @@ pub fn run(args: Args) -> Result<Outcome> {
 
     let mut scores = Vec::new();
     let mut curves = Vec::new();
+    let explicit = !args.refs.is_empty();
     for r in &references {
-        match r {
-            Reference::Radial(c) => {
-                let (profile, bed) = match (&input.profile, input.beds.first()) {
-                    (Some(p), Some(b)) => (p, b),
-                    _ => bail!("{} is a radial profile correlation: give a profile CSV", c.name),
-                };
-                let choice = match c.eps_b {
-                    // Mueller's form computes its own ε_b from N; the choice is not used.
-                    EpsBSource::OwnFromN => EpsBChoice::Given(f64::NAN),
-                    EpsBSource::Parameter => eps_b_choice(eps_b_mode, bed, c.name)?,
-                };
-                let score = scoring::score_radial(c, &profile.profile, bed, choice)?
-                    .with_context(|| format!("{}: no profile point at a wall distance ≥ 0", profile.source))?;
-                curves.push(plots::radial_reference(c, profile, bed, choice)?);
-                scores.push(Score::Profile(score));
+        match score_one(r, &input, eps_b_mode) {
+            Ok((score, curve)) => {
+                scores.push(score);
+                curves.extend(curve);
             }
-            Reference::Bulk(c) => scores.push(Score::Bulk(scoring::score_bulk(c, &input.beds)?)),
+            // A default reference the inputs cannot feed is skipped, not fatal.
+            Err(e) if !explicit => eprintln!("compare: warning: skipped {}: {}", r.name(), pellet_cli::one_line(&e)),
+            Err(e) => return Err(e),
         }
     }
     for path in &args.exp {
@@ -266,6 +261,32 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     print!("{}", report::stdout_summary(&scores, &violations, &out_dir, &plot_paths));
     Ok(if violations.is_empty() { Outcome::Success } else { Outcome::CheckFailed })
+}
+
+/// Scores one reference; radial ones also give their plot curve.
+fn score_one(
+    r: &Reference,
+    input: &beds::Inputs,
+    eps_b_mode: EpsBMode,
+) -> Result<(Score, Option<pellet_plot::RefCurve>)> {
+    match r {
+        Reference::Radial(c) => {
+            let (profile, bed) = match (&input.profile, input.beds.first()) {
+                (Some(p), Some(b)) => (p, b),
+                _ => bail!("{} is a radial profile correlation: give a profile CSV", c.name),
+            };
+            let choice = match c.eps_b {
+                // Mueller's form computes its own ε_b from N; the choice is not used.
+                EpsBSource::OwnFromN => EpsBChoice::Given(f64::NAN),
+                EpsBSource::Parameter => eps_b_choice(eps_b_mode, bed, c.name)?,
+            };
+            let score = scoring::score_radial(c, &profile.profile, bed, choice)?
+                .with_context(|| format!("{}: no profile point at a wall distance ≥ 0", profile.source))?;
+            let curve = plots::radial_reference(c, profile, bed, choice)?;
+            Ok((Score::Profile(score), Some(curve)))
+        }
+        Reference::Bulk(c) => Ok((Score::Bulk(scoring::score_bulk(c, &input.beds)?), None)),
+    }
 }
 
 fn ref_ptr(r: &Reference) -> *const () {

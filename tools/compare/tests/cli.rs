@@ -445,7 +445,7 @@ fn cylinders_and_rings_use_each_correlations_own_n() {
         "tube_diameter_mm": d, "N": 6.0, "N_dpv": d / ring_dpv
     });
     std::fs::write(p.join("ring.json"), s.to_string()).unwrap();
-    let out = compare(p, &["--summary", "ring.json", "-o", "r"]);
+    let out = compare(p, &["--summary", "ring.json", "--ref", "ring-envelope", "-o", "r"]);
     assert_error(
         &out,
         "ring-envelope-dixon needs N = D/dpv(envelope cylinder) for ring.json (give N_dpv and the rings' di/do)",
@@ -480,4 +480,20 @@ fn a_voidprof_profile_alone_is_enough() {
     assert_eq!(find(&s, "de-klerk-2003")["eps_b_method"], "fitted");
     let report = std::fs::read_to_string(dir.path().join("report/report.md")).unwrap();
     assert!(report.contains("the profile's cross-section mean"), "{report}");
+}
+
+#[test]
+fn default_references_the_inputs_cannot_feed_are_skipped_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    // No mm columns: N unknown, so Mueller (which needs N) is skipped; ε_b given.
+    std::fs::write(dir.path().join("z.csv"), "wall_distance_dp,void_fraction\n0,1\n0.5,0.25\n1,0.55\n2,0.4\n").unwrap();
+    let out = compare(dir.path(), &["z.csv", "--eps-b", "0.39", "-o", "r"]);
+    assert_exit(&out, 0);
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("compare: warning: skipped mueller-1992: mueller-1992 needs N")
+    );
+    let s = scores(&dir.path().join("r"));
+    assert!(s.iter().any(|x| x["reference"] == "de-klerk-2003"));
+    assert!(!s.iter().any(|x| x["reference"] == "mueller-1992"));
+    assert_error(&compare(dir.path(), &["z.csv", "-o", "-"]), "-o takes a directory");
 }
