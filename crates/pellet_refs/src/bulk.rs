@@ -40,15 +40,27 @@ pub enum Formula {
     OfN(fn(f64) -> f64),
     /// [`ring_envelope_dixon`]: ε(N_env, di/do).
     RingEnvelope,
+    /// [`benyahia_oneill_2005_sphericity`]: ε(N, φ).
+    Sphericity,
+}
+
+/// Pellet properties some formulas need besides N.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Extras {
+    /// Rings: inner over outer diameter.
+    pub di_over_do: Option<f64>,
+    /// Wadell sphericity φ (1 for spheres).
+    pub sphericity: Option<f64>,
 }
 
 impl BulkCorrelation {
-    /// ε at `n` (its own N); rings need the hole ratio di/do, `None`
-    /// without it.
-    pub fn predict(&self, n: f64, di_over_do: Option<f64>) -> Option<f64> {
+    /// ε at `n` (its own N); the ring estimate needs di/do and the
+    /// sphericity form φ: `None` without them.
+    pub fn predict(&self, n: f64, extras: &Extras) -> Option<f64> {
         match self.formula {
             Formula::OfN(f) => Some(f(n)),
-            Formula::RingEnvelope => di_over_do.map(|r| ring_envelope_dixon(n, r)),
+            Formula::RingEnvelope => extras.di_over_do.map(|r| ring_envelope_dixon(n, r)),
+            Formula::Sphericity => extras.sphericity.map(|phi| benyahia_oneill_2005_sphericity(n, phi)),
         }
     }
 }
@@ -186,6 +198,39 @@ pub static BULK: &[BulkCorrelation] = &[
         n_range: Range::from(2.0),
         note: "form, coefficients and N definition inferred from the reference table, not from the paper",
         formula: Formula::OfN(pushnov_2006_cylinders),
+    },
+    BulkCorrelation {
+        name: "benyahia-oneill-2005-sphericity",
+        shape: Shape::Sphere,
+        label: "Benyahia & O'Neill (2005), sphericity form",
+        citation: "Benyahia F., O'Neill K.E. (2005) Part. Sci. Technol. 23:169",
+        grade: Grade::B,
+        n_definition: NDefinition::DOverDpv,
+        n_range: Range::between(1.5, 50.0),
+        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1",
+        formula: Formula::Sphericity,
+    },
+    BulkCorrelation {
+        name: "benyahia-oneill-2005-sphericity",
+        shape: Shape::Cylinder,
+        label: "Benyahia & O'Neill (2005), sphericity form",
+        citation: "Benyahia F., O'Neill K.E. (2005) Part. Sci. Technol. 23:169",
+        grade: Grade::B,
+        n_definition: NDefinition::DOverDpv,
+        n_range: Range::between(1.5, 50.0),
+        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1",
+        formula: Formula::Sphericity,
+    },
+    BulkCorrelation {
+        name: "benyahia-oneill-2005-sphericity",
+        shape: Shape::Ring,
+        label: "Benyahia & O'Neill (2005), sphericity form",
+        citation: "Benyahia F., O'Neill K.E. (2005) Part. Sci. Technol. 23:169",
+        grade: Grade::B,
+        n_definition: NDefinition::DOverDpv,
+        n_range: Range::between(1.5, 50.0),
+        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1",
+        formula: Formula::Sphericity,
     },
     BulkCorrelation {
         name: "ring-envelope-dixon",

@@ -43,6 +43,7 @@ const ALIASES: &[(&str, &str, Option<Shape>)] = &[
     ("benyahia-oneill", "benyahia-oneill-2005", None),
     ("benyahia-oneill-spheres", "benyahia-oneill-2005", Some(Shape::Sphere)),
     ("benyahia-oneill-cylinders", "benyahia-oneill-2005", Some(Shape::Cylinder)),
+    ("benyahia-oneill-sphericity", "benyahia-oneill-2005-sphericity", None),
     ("cheng", "cheng-2011", None),
     ("sato", "sato-1973", None),
     ("zou-yu", "zou-yu-1995", None),

@@ -9,7 +9,7 @@
 
 use serde::Serialize;
 
-use crate::bulk::BulkCorrelation;
+use crate::bulk::{BulkCorrelation, Extras, Formula};
 use crate::metrics::{cross_section_mean_of, error_metrics, interpolate, relative_error, ErrorMetrics};
 use crate::radial::{EpsBSource, RadialCorrelation};
 use crate::{Grade, NDefinition, RefError, Shape};
@@ -62,6 +62,8 @@ pub struct Bed {
     pub n_dpv: Option<f64>,
     /// Rings: inner over outer diameter.
     pub ring_di_do: Option<f64>,
+    /// Wadell sphericity φ (for spheres 1 when not given).
+    pub sphericity: Option<f64>,
 }
 
 impl Bed {
@@ -73,6 +75,12 @@ impl Bed {
             // dpv³ scales with the solid volume: the envelope's is the ring's over (1 − (di/do)²).
             NDefinition::DOverDpvEnvelope => Some(self.n_dpv? * (1.0 - self.ring_di_do?.powi(2)).cbrt()),
         }
+    }
+
+    /// The pellet properties formulas need besides N.
+    pub fn extras(&self) -> Extras {
+        let sphere = if self.shape == Shape::Sphere { Some(1.0) } else { None };
+        Extras { di_over_do: self.ring_di_do, sphericity: self.sphericity.or(sphere) }
     }
 
     /// N in the unit that scales a profile's z.
@@ -341,8 +349,13 @@ pub fn score_bulk(corr: &BulkCorrelation, beds: &[Bed]) -> Result<BulkScore, Ref
         let n = bed
             .n(corr.n_definition)
             .ok_or_else(|| missing(format!("{} for {} ({})", corr.n_definition.formula(), bed.source, needs(corr))))?;
-        let predicted =
-            corr.predict(n, bed.ring_di_do).ok_or_else(|| missing(format!("di/do of the rings in {}", bed.source)))?;
+        let extras = bed.extras();
+        let predicted = corr.predict(n, &extras).ok_or_else(|| {
+            missing(match corr.formula {
+                Formula::Sphericity => format!("the sphericity φ of the pellets in {}", bed.source),
+                _ => format!("di/do of the rings in {}", bed.source),
+            })
+        })?;
         let mut valid = true;
         if bed.shape != corr.shape {
             valid = false;
@@ -351,6 +364,12 @@ pub fn score_bulk(corr: &BulkCorrelation, beds: &[Bed]) -> Result<BulkScore, Ref
         if !corr.n_range.contains(n) {
             valid = false;
             notes.push(format!("{}: N = {n:.3} outside {}", bed.source, corr.n_range.describe("N")));
+        }
+        if let (Formula::Sphericity, Some(phi)) = (&corr.formula, extras.sphericity) {
+            if !(phi > 0.42 && phi <= 1.0) {
+                valid = false;
+                notes.push(format!("{}: φ = {phi:.3} outside 0.42 < φ ≤ 1", bed.source));
+            }
         }
         scored.push(BulkBedScore {
             source: bed.source.clone(),
@@ -433,6 +452,7 @@ mod tests {
             n_dp: Some(8.0),
             n_dpv: None,
             ring_di_do: None,
+            sphericity: None,
         };
         let s = score_radial(c, &profile, &bed, EpsBChoice::Given(0.38)).unwrap().unwrap();
         assert_eq!((s.metrics.rmse, s.metrics.max_abs_error, s.valid), (0.0, 0.0, true));
@@ -452,6 +472,7 @@ mod tests {
             n_dp: Some(n),
             n_dpv: None,
             ring_di_do: None,
+            sphericity: None,
         };
         let p5 = crate::bulk::foumeny_1993_spheres(5.0);
         let p10 = crate::bulk::foumeny_1993_spheres(10.0);

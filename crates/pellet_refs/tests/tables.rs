@@ -4,7 +4,7 @@
 //! printed with 5 decimals, so |computed − printed| ≤ 0.5e-5 is the
 //! tightest check the tables allow.
 
-use pellet_refs::bulk::{self, BULK};
+use pellet_refs::bulk::{self, Extras, BULK};
 use pellet_refs::radial::{self, RADIAL};
 use pellet_refs::registry::{resolve, Reference};
 use pellet_refs::Shape;
@@ -72,11 +72,22 @@ fn registry_entries_evaluate_the_tabulated_functions() {
         Reference::Bulk(c) => c,
         Reference::Radial(_) => panic!("{name} is radial"),
     };
-    assert_eq!(pick("dixon-1988", Shape::Sphere).predict(5.0, None), Some(bulk::dixon_1988_spheres(5.0)));
-    assert_eq!(pick("dixon-1988", Shape::Cylinder).predict(5.0, None), Some(bulk::dixon_1988_cylinders(5.0)));
+    assert_eq!(pick("dixon-1988", Shape::Sphere).predict(5.0, &Extras::default()), Some(bulk::dixon_1988_spheres(5.0)));
+    assert_eq!(
+        pick("dixon-1988", Shape::Cylinder).predict(5.0, &Extras::default()),
+        Some(bulk::dixon_1988_cylinders(5.0))
+    );
     let ring = pick("ring-envelope-dixon", Shape::Ring);
-    assert_eq!(ring.predict(3.0, Some(0.5)), Some(bulk::ring_envelope_dixon_half(3.0)));
-    assert_eq!(ring.predict(3.0, None), None);
+    assert_eq!(
+        ring.predict(3.0, &Extras { di_over_do: Some(0.5), sphericity: None }),
+        Some(bulk::ring_envelope_dixon_half(3.0))
+    );
+    assert_eq!(ring.predict(3.0, &Extras::default()), None);
+    let phi = pick("benyahia-oneill-2005-sphericity", Shape::Cylinder);
+    let extras = Extras { di_over_do: None, sphericity: Some(0.874) };
+    assert_eq!(phi.predict(6.0, &extras), Some(bulk::benyahia_oneill_2005_sphericity(6.0, 0.874)));
+    // Hand-computed: 0.1504 + 0.2024/0.874 + 1.0814/6.1226² = 0.4108269 (0.1504 + 0.2315789 + 0.0288480)
+    assert!((bulk::benyahia_oneill_2005_sphericity(6.0, 0.874) - 0.410_826_9).abs() < 1e-6);
     for c in BULK {
         assert!(!c.citation.is_empty() && c.n_range.min >= 1.0, "{}", c.name);
     }

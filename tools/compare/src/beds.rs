@@ -209,7 +209,11 @@ fn bed_from(args: &Args, s: &Summary, source: String, hints: Hints, info: &mut I
     if shape == Shape::Ring {
         p.push(("ring di/do".into(), fmt_opt(ring_di_do, ring_from)));
     }
-    Ok(Bed { source, shape, bulk_porosity: bulk, n_dp, n_dpv, ring_di_do })
+    let (sphericity, phi_from) = first_of(&[(args.sphericity, "--sphericity"), (s.sphericity, "summary")]);
+    if sphericity.is_some() {
+        p.push(("sphericity φ".into(), fmt_opt(sphericity, phi_from)));
+    }
+    Ok(Bed { source, shape, bulk_porosity: bulk, n_dp, n_dpv, ring_di_do, sphericity })
 }
 
 /// The first known value and where it came from.

@@ -151,6 +151,8 @@ pub struct Summary {
     pub n_dpv: Option<f64>,
     /// Rings: inner over outer diameter, if the summary carries it.
     pub ring_di_do: Option<f64>,
+    /// Wadell sphericity of the pellets, if the summary carries it.
+    pub sphericity: Option<f64>,
     /// Number of pellets.
     pub pellets: Option<u64>,
 }

@@ -82,6 +82,10 @@ pub struct Args {
     /// Rings: inner over outer diameter (for the ring envelope estimate).
     #[arg(long, value_name = "RATIO")]
     ring_di_do: Option<f64>,
+    /// Wadell sphericity φ of the pellets (for the sphericity form of
+    /// Benyahia & O'Neill; spheres: 1; equilateral cylinders: 0.874).
+    #[arg(long, value_name = "PHI")]
+    sphericity: Option<f64>,
     /// Bulk porosity of the bed, when neither a summary nor a whole-tube
     /// profile gives it.
     #[arg(long, value_name = "EPS")]

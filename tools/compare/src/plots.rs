@@ -118,7 +118,7 @@ fn bulk_curve(c: &BulkCorrelation, bed: &Bed, axis: NDefinition, lo: f64, hi: f6
     let pts: Vec<(f64, f64)> = (0..=400)
         .filter_map(|i| {
             let x = a + (b - a) * i as f64 / 400.0;
-            let y = c.predict(x * ratio, bed.ring_di_do)?;
+            let y = c.predict(x * ratio, &bed.extras())?;
             y.is_finite().then_some((x, y))
         })
         .collect();

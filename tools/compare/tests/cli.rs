@@ -497,3 +497,26 @@ fn default_references_the_inputs_cannot_feed_are_skipped_with_a_warning() {
     assert!(!s.iter().any(|x| x["reference"] == "mueller-1992"));
     assert_error(&compare(dir.path(), &["z.csv", "-o", "-"]), "-o takes a directory");
 }
+
+#[test]
+fn the_sphericity_form_needs_phi_except_for_spheres() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path();
+    write_summary(&p.join("s.json"), 0.42, 60.0);
+    let out = compare(p, &["--summary", "s.json", "--ref", "benyahia-oneill-sphericity", "-o", "s"]);
+    assert_exit(&out, 0);
+    let want = 0.1504 + 0.2024 / 1.0 + 1.0814 / (6.0f64 + 0.1226).powi(2);
+    close(&find(&scores(&p.join("s")), "benyahia-oneill-2005-sphericity")["predicted"], want, 1e-14);
+    let dpv = (1.5f64 * 1000.0).cbrt();
+    let cyl = serde_json::json!({"bulk_porosity": 0.4, "shape": "cylinder", "N": 6.0, "N_dpv": 60.0 / dpv});
+    std::fs::write(p.join("c.json"), cyl.to_string()).unwrap();
+    let args = ["--summary", "c.json", "--ref", "benyahia-oneill-2005-sphericity", "-o", "c"];
+    assert_error(&compare(p, &args), "needs the sphericity φ of the pellets in c.json");
+    let out = compare(p, &[&args[..], &["--sphericity", "0.874"]].concat());
+    assert_exit(&out, 0);
+    let want = 0.1504 + 0.2024 / 0.874 + 1.0814 / (60.0 / dpv + 0.1226).powi(2);
+    close(&find(&scores(&p.join("c")), "benyahia-oneill-2005-sphericity")["predicted"], want, 1e-14);
+    let out = compare(p, &[&args[..], &["--sphericity", "0.3"]].concat());
+    assert_exit(&out, 0);
+    assert_eq!(find(&scores(&p.join("c")), "benyahia-oneill-2005-sphericity")["valid"], false);
+}
