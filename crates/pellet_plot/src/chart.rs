@@ -173,8 +173,16 @@ impl Chart<'_> {
                 .label(label)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], color.stroke_width(2)));
         }
-        for (i, r) in self.references.iter().enumerate() {
-            let color = REF_COLORS[i % REF_COLORS.len()];
+        // Palette colours go to the curves without an explicit one, in order.
+        let mut next = 0;
+        for r in self.references {
+            let color = match r.color {
+                Some((red, green, blue)) => RGBColor(red, green, blue),
+                None => {
+                    next += 1;
+                    REF_COLORS[(next - 1) % REF_COLORS.len()]
+                }
+            };
             let pts = r.points.clone();
             let anno = match r.style {
                 CurveStyle::Solid => chart.draw_series(LineSeries::new(pts, color.stroke_width(2))).map_err(e)?,

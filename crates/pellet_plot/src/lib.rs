@@ -71,12 +71,20 @@ pub struct RefCurve {
     pub points: Vec<(f64, f64)>,
     /// Line or markers.
     pub style: CurveStyle,
+    /// An explicit colour (r, g, b); `None` takes the next palette colour.
+    pub color: Option<(u8, u8, u8)>,
 }
 
 impl RefCurve {
     /// A curve.
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>, style: CurveStyle) -> RefCurve {
-        RefCurve { label: label.into(), points, style }
+        RefCurve { label: label.into(), points, style, color: None }
+    }
+
+    /// The same curve in an explicit colour (e.g. black for simulated points).
+    pub fn with_color(mut self, rgb: (u8, u8, u8)) -> RefCurve {
+        self.color = Some(rgb);
+        self
     }
 }
 

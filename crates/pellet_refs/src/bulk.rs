@@ -207,7 +207,7 @@ pub static BULK: &[BulkCorrelation] = &[
         grade: Grade::B,
         n_definition: NDefinition::DOverDpv,
         n_range: Range::between(1.5, 50.0),
-        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1",
+        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1 (so not for spheres)",
         formula: Formula::Sphericity,
     },
     BulkCorrelation {
@@ -218,7 +218,7 @@ pub static BULK: &[BulkCorrelation] = &[
         grade: Grade::B,
         n_definition: NDefinition::DOverDpv,
         n_range: Range::between(1.5, 50.0),
-        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1",
+        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1 (so not for spheres)",
         formula: Formula::Sphericity,
     },
     BulkCorrelation {
@@ -229,7 +229,7 @@ pub static BULK: &[BulkCorrelation] = &[
         grade: Grade::B,
         n_definition: NDefinition::DOverDpv,
         n_range: Range::between(1.5, 50.0),
-        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1",
+        note: "any shape through the Wadell sphericity φ, valid for 0.42 < φ < 1 (so not for spheres)",
         formula: Formula::Sphericity,
     },
     BulkCorrelation {

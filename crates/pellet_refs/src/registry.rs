@@ -6,7 +6,7 @@
 //! (`dixon-spheres`, `dixon-cylinders`). Names are case-insensitive and
 //! `_` counts as `-`.
 
-use crate::bulk::{BulkCorrelation, BULK};
+use crate::bulk::{BulkCorrelation, Formula, BULK};
 use crate::radial::{RadialCorrelation, RADIAL};
 use crate::{RefError, Shape};
 
@@ -92,10 +92,16 @@ pub fn aliases_of(canonical: &str) -> Vec<&'static str> {
 }
 
 /// The default set for a bed of `shape`: every radial correlation and
-/// every bulk one made for that shape.
+/// every bulk one made for that shape — except the sphericity form for
+/// spheres, whose range (0.42 < φ < 1) excludes them.
 pub fn defaults(shape: Shape) -> Vec<Reference> {
     let mut refs: Vec<Reference> = RADIAL.iter().map(Reference::Radial).collect();
-    refs.extend(BULK.iter().filter(|c| c.shape == shape).map(Reference::Bulk));
+    refs.extend(
+        BULK.iter()
+            .filter(|c| c.shape == shape)
+            .filter(|c| !(shape == Shape::Sphere && matches!(c.formula, Formula::Sphericity)))
+            .map(Reference::Bulk),
+    );
     refs
 }
 

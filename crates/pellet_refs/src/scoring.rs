@@ -366,9 +366,9 @@ pub fn score_bulk(corr: &BulkCorrelation, beds: &[Bed]) -> Result<BulkScore, Ref
             notes.push(format!("{}: N = {n:.3} outside {}", bed.source, corr.n_range.describe("N")));
         }
         if let (Formula::Sphericity, Some(phi)) = (&corr.formula, extras.sphericity) {
-            if !(phi > 0.42 && phi <= 1.0) {
+            if !(phi > 0.42 && phi < 1.0) {
                 valid = false;
-                notes.push(format!("{}: φ = {phi:.3} outside 0.42 < φ ≤ 1", bed.source));
+                notes.push(format!("{}: φ = {phi:.3} outside 0.42 < φ < 1", bed.source));
             }
         }
         scored.push(BulkBedScore {

@@ -96,7 +96,7 @@ pub fn porosity_plot(dir: &Path, refs: &[Reference], beds: &[Bed], scores: &[&Bu
         }
     }
     let points: Vec<(f64, f64)> = beds.iter().filter_map(|b| Some((b.n(axis)?, b.bulk_porosity?))).collect();
-    curves.push(RefCurve::new("simulated beds", points, CurveStyle::Markers));
+    curves.push(RefCurve::new("simulated beds", points, CurveStyle::Markers).with_color((0, 0, 0)));
     let title = format!("Bulk porosity vs N, {}s", shape.name());
     let x_label = axis.formula().to_string();
     let mut paths = Vec::new();

@@ -239,7 +239,7 @@ pub fn stdout_summary(scores: &[Score], violations: &[Violation], dir: &Path, pl
         };
         let line = match s {
             Score::Profile(p) => format!(
-                "{:<24} profile  rmse {:.4}  r2 {}  mae {:.4}  max {:.4}  ({} points){flag}",
+                "{:<32} profile  rmse {:.4}  r2 {}  mae {:.4}  max {:.4}  ({} points){flag}",
                 p.reference,
                 p.metrics.rmse,
                 p.metrics.r2.map_or("–".into(), |r| format!("{r:.3}")),
@@ -248,7 +248,7 @@ pub fn stdout_summary(scores: &[Score], violations: &[Violation], dir: &Path, pl
                 p.metrics.points
             ),
             Score::Bulk(b) => format!(
-                "{:<24} bulk     simulated {:.4}  predicted {:.4}  relative error {:+.2} %  MRE {:.2} %{flag}",
+                "{:<32} bulk     simulated {:.4}  predicted {:.4}  relative error {:+.2} %  MRE {:.2} %{flag}",
                 b.reference,
                 b.simulated,
                 b.predicted,

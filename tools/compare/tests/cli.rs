@@ -499,14 +499,18 @@ fn default_references_the_inputs_cannot_feed_are_skipped_with_a_warning() {
 }
 
 #[test]
-fn the_sphericity_form_needs_phi_except_for_spheres() {
+fn the_sphericity_form_needs_phi_and_flags_spheres() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path();
     write_summary(&p.join("s.json"), 0.42, 60.0);
     let out = compare(p, &["--summary", "s.json", "--ref", "benyahia-oneill-sphericity", "-o", "s"]);
     assert_exit(&out, 0);
     let want = 0.1504 + 0.2024 / 1.0 + 1.0814 / (6.0f64 + 0.1226).powi(2);
-    close(&find(&scores(&p.join("s")), "benyahia-oneill-2005-sphericity")["predicted"], want, 1e-14);
+    let sc = scores(&p.join("s"));
+    let sph = find(&sc, "benyahia-oneill-2005-sphericity");
+    close(&sph["predicted"], want, 1e-14);
+    // φ = 1 lies outside its range (0.42 < φ < 1): computed, flagged.
+    assert_eq!(sph["valid"], false);
     let dpv = (1.5f64 * 1000.0).cbrt();
     let cyl = serde_json::json!({"bulk_porosity": 0.4, "shape": "cylinder", "N": 6.0, "N_dpv": 60.0 / dpv});
     std::fs::write(p.join("c.json"), cyl.to_string()).unwrap();
@@ -519,4 +523,17 @@ fn the_sphericity_form_needs_phi_except_for_spheres() {
     let out = compare(p, &[&args[..], &["--sphericity", "0.3"]].concat());
     assert_exit(&out, 0);
     assert_eq!(find(&scores(&p.join("c")), "benyahia-oneill-2005-sphericity")["valid"], false);
+}
+
+#[test]
+fn same_inputs_give_identical_outputs() {
+    let run = || {
+        let dir = tempfile::tempdir().unwrap();
+        write_profile(&dir.path().join("profile.csv"), 0.0);
+        write_summary(&dir.path().join("summary.json"), 0.425, D);
+        assert_exit(&compare(dir.path(), &["profile.csv", "--summary", "summary.json", "-o", "r"]), 0);
+        ["scores.json", "scores.csv", "report.md", "profile.svg", "profile.png", "porosity_vs_n.svg"]
+            .map(|f| std::fs::read(dir.path().join("r").join(f)).unwrap())
+    };
+    assert!(run() == run(), "outputs differ between two identical runs");
 }
