@@ -1,0 +1,251 @@
+//! The one chart both plots are: series with bands, and styled curves.
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{register_font, FontStyle};
+
+use crate::{CurveStyle, PlotError, ProfileSeries, RefCurve};
+
+/// The font family every text uses; registered once from the embedded
+/// DejaVu faces, because the `ab_glyph` backend has no font lookup.
+const FAMILY: &str = "sans-serif";
+const SIZE: (u32, u32) = (900, 560);
+
+/// Image formats, from the file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// `.png`
+    Png,
+    /// `.svg`
+    Svg,
+}
+
+impl ImageFormat {
+    /// The format of `path`, by its extension (case-insensitive).
+    pub fn of(path: &Path) -> Option<ImageFormat> {
+        match path.extension()?.to_str()?.to_ascii_lowercase().as_str() {
+            "png" => Some(ImageFormat::Png),
+            "svg" => Some(ImageFormat::Svg),
+            _ => None,
+        }
+    }
+}
+
+/// A chart: titles, simulated series and reference curves.
+pub struct Chart<'a> {
+    /// Caption.
+    pub title: &'a str,
+    /// x axis label.
+    pub x_label: &'a str,
+    /// y axis label.
+    pub y_label: &'a str,
+    /// Simulated series (lines, optional bands).
+    pub series: &'a [ProfileSeries],
+    /// Reference curves.
+    pub references: &'a [RefCurve],
+}
+
+fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The embedded faces are valid TrueType; failure would be a build defect.
+        let _ = register_font(FAMILY, FontStyle::Normal, dejavu::sans::regular());
+        let _ = register_font(FAMILY, FontStyle::Bold, dejavu::sans::bold());
+    });
+}
+
+/// Colours for simulated series, then references (distinct on white).
+const SERIES_COLORS: [RGBColor; 3] = [RGBColor(0, 0, 0), RGBColor(90, 90, 90), RGBColor(150, 150, 150)];
+const REF_COLORS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+    RGBColor(188, 189, 34),
+    RGBColor(0, 80, 120),
+];
+
+impl Chart<'_> {
+    /// Renders to `path`, PNG or SVG by extension, atomically (a temporary
+    /// file beside the target, renamed when complete).
+    pub fn render(&self, path: &Path) -> Result<(), PlotError> {
+        let shown = || path.display().to_string();
+        let format = ImageFormat::of(path).ok_or_else(|| PlotError::UnknownFormat { path: shown() })?;
+        let (x_range, y_range) = self.ranges().ok_or_else(|| PlotError::Empty { path: shown() })?;
+        register_fonts();
+        let draw_err = |reason: String| PlotError::Draw { path: shown(), reason };
+        match format {
+            ImageFormat::Svg => {
+                let mut svg = String::new();
+                {
+                    let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+                    self.draw(root, x_range, y_range).map_err(draw_err)?;
+                }
+                write_atomically(path, "svg", |tmp| std::fs::write(tmp, svg.as_bytes()).map_err(|e| e.to_string()))
+                    .map_err(draw_err)
+            }
+            ImageFormat::Png => write_atomically(path, "png", |tmp| {
+                // The encoder picks PNG from the temporary name's extension.
+                let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
+                self.draw(root, x_range, y_range)
+            })
+            .map_err(draw_err),
+        }
+    }
+
+    fn points(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        let series = self.series.iter().flat_map(|s| {
+            s.x.iter().zip(&s.y).enumerate().flat_map(move |(i, (&x, &y))| {
+                let d = s.spread.as_ref().and_then(|sp| sp.get(i)).copied().unwrap_or(0.0);
+                [(x, y - d), (x, y + d)]
+            })
+        });
+        let refs = self.references.iter().flat_map(|r| r.points.iter().copied());
+        series.chain(refs).filter(|(x, y)| x.is_finite() && y.is_finite())
+    }
+
+    fn ranges(&self) -> Option<((f64, f64), (f64, f64))> {
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for (x, y) in self.points() {
+            (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+        }
+        if !x0.is_finite() {
+            return None;
+        }
+        let pad = |lo: f64, hi: f64| {
+            let span = (hi - lo).max(1e-6);
+            (lo - 0.04 * span, hi + 0.04 * span)
+        };
+        // Void fractions live in [0, 1]: start the axis at 0 only when the data come near it.
+        let (ylo, yhi) = pad(y0, y1);
+        let x = if x0 >= 0.0 && x0 < 0.2 * (x1 - x0) { (0.0, pad(x0, x1).1) } else { pad(x0, x1) };
+        Some((x, (ylo.max(0.0), yhi)))
+    }
+
+    fn draw<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, Shift>,
+        (x0, x1): (f64, f64),
+        (y0, y1): (f64, f64),
+    ) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+        root.fill(&WHITE).map_err(e)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(self.title, (FAMILY, 22))
+            .margin(14)
+            .x_label_area_size(46)
+            .y_label_area_size(60)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(e)?;
+        chart
+            .configure_mesh()
+            .x_desc(self.x_label)
+            .y_desc(self.y_label)
+            .label_style((FAMILY, 15))
+            .axis_desc_style((FAMILY, 16))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(e)?;
+        for (i, s) in self.series.iter().enumerate() {
+            let color = SERIES_COLORS[i % SERIES_COLORS.len()];
+            if let Some(spread) = &s.spread {
+                // The band: upper edge left to right, lower edge back.
+                let upper = s.x.iter().zip(&s.y).zip(spread).map(|((&x, &y), &d)| (x, y + d));
+                let lower = s.x.iter().zip(&s.y).zip(spread).rev().map(|((&x, &y), &d)| (x, y - d));
+                let outline: Vec<(f64, f64)> = upper.chain(lower).collect();
+                chart.draw_series(std::iter::once(Polygon::new(outline, color.mix(0.18).filled()))).map_err(e)?;
+            }
+            let label = if s.spread.is_some() { format!("{} (± spread)", s.label) } else { s.label.clone() };
+            let line = s.x.iter().copied().zip(s.y.iter().copied());
+            chart
+                .draw_series(LineSeries::new(line, color.stroke_width(2)))
+                .map_err(e)?
+                .label(label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], color.stroke_width(2)));
+        }
+        // Palette colours go to the curves without an explicit one, in order.
+        let mut next = 0;
+        for r in self.references {
+            let color = match r.color {
+                Some((red, green, blue)) => RGBColor(red, green, blue),
+                None => {
+                    next += 1;
+                    REF_COLORS[(next - 1) % REF_COLORS.len()]
+                }
+            };
+            let pts = r.points.clone();
+            let anno = match r.style {
+                CurveStyle::Solid => chart.draw_series(LineSeries::new(pts, color.stroke_width(2))).map_err(e)?,
+                CurveStyle::Dashed => {
+                    chart.draw_series(DashedLineSeries::new(pts, 8, 5, color.stroke_width(2))).map_err(e)?
+                }
+                CurveStyle::Markers => {
+                    chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 4, color.filled()))).map_err(e)?
+                }
+            };
+            let style = r.style;
+            anno.label(r.label.clone()).legend(move |(x, y)| match style {
+                CurveStyle::Markers => {
+                    EmptyElement::at((x, y)) + Circle::new((11, 0), 4, color.filled()) + PathElement::new(vec![], color)
+                }
+                _ => {
+                    EmptyElement::at((x, y))
+                        + Circle::new((0, 0), 0, color)
+                        + PathElement::new(
+                            if style == CurveStyle::Dashed { vec![(0, 0), (8, 0)] } else { vec![(0, 0), (22, 0)] },
+                            color.stroke_width(2),
+                        )
+                }
+            });
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .label_font((FAMILY, 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()
+            .map_err(e)?;
+        root.present().map_err(e)?;
+        Ok(())
+    }
+}
+
+/// Writes through a temporary file `.{name}.packbed-tmp.{ext}` beside
+/// `path`, renamed into place only when `write` succeeded.
+fn write_atomically(path: &Path, ext: &str, write: impl FnOnce(&Path) -> Result<(), String>) -> Result<(), String> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let tmp = dir.join(format!(".{name}.packbed-tmp.{ext}"));
+    let result = write(&tmp).and_then(|()| std::fs::rename(&tmp, path).map_err(|e| e.to_string()));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn format_follows_the_extension() {
+        assert_eq!(ImageFormat::of(Path::new("a/b.PNG")), Some(ImageFormat::Png));
+        assert_eq!(ImageFormat::of(Path::new("b.svg")), Some(ImageFormat::Svg));
+        assert_eq!(ImageFormat::of(Path::new("b.pdf")), None);
+        assert_eq!(ImageFormat::of(Path::new("b")), None);
+    }
+}

@@ -1,0 +1,205 @@
+//! Reading compare's inputs: profile CSVs, voidprof summaries, experimental
+//! data. Bytes come from `pellet_io::read_input`; this module only parses.
+//!
+//! A profile CSV has a header row and needs `void_fraction` and one of
+//! `wall_distance_dp`, `wall_distance_dpv` or `wall_distance_mm` (the
+//! latter then needs the pellet length, from `--dp`/`--dpv` or a summary).
+//! Optional: `r_mm` (with `wall_distance_mm` it gives the tube radius) and
+//! `void_fraction_std` (a spread, drawn as a band). Other columns are
+//! ignored, so voidprof's CSV and foreign ones both work.
+
+use anyhow::{bail, Context, Result};
+use serde::Deserialize;
+
+/// A parsed CSV table: numeric columns by header name.
+#[derive(Clone, Debug)]
+pub struct Table {
+    /// Where it came from, for messages.
+    pub source: String,
+    headers: Vec<String>,
+    rows: Vec<Vec<f64>>,
+}
+
+impl Table {
+    /// Parses comma-separated text with a header row. Blank lines and
+    /// lines starting with `#` are skipped; empty cells read as NaN.
+    pub fn parse(source: &str, bytes: &[u8]) -> Result<Table> {
+        let text = std::str::from_utf8(bytes).with_context(|| format!("{source}: not UTF-8 text"))?;
+        let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
+        let Some((_, header)) = lines.next() else { bail!("{source}: empty file (no header row)") };
+        let headers: Vec<String> =
+            header.split(',').map(|h| h.trim().trim_matches('"').trim_start_matches('\u{feff}').to_string()).collect();
+        let mut rows = Vec::new();
+        for (i, line) in lines {
+            let cells: Vec<&str> = line.split(',').collect();
+            if cells.len() != headers.len() {
+                bail!("{source}:{}: {} cells, but the header has {}", i + 1, cells.len(), headers.len());
+            }
+            let row = cells
+                .iter()
+                .zip(&headers)
+                .map(|(c, h)| {
+                    let c = c.trim().trim_matches('"');
+                    if c.is_empty() {
+                        return Ok(f64::NAN);
+                    }
+                    c.parse::<f64>().with_context(|| format!("{source}:{}: column {h}: {c:?} is not a number", i + 1))
+                })
+                .collect::<Result<Vec<f64>>>()?;
+            rows.push(row);
+        }
+        Ok(Table { source: source.to_string(), headers, rows })
+    }
+
+    /// The column named `name`, if present.
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.headers.iter().position(|h| h == name)?;
+        Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+
+    /// Whether the table has no data rows.
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+}
+
+/// Wall distances of a profile table in units of `unit_name` (`dp` or
+/// `dpv`), from the matching column or from `wall_distance_mm / length_mm`.
+pub fn wall_distance(table: &Table, unit_name: &str, length_mm: Option<f64>, length_flag: &str) -> Result<Vec<f64>> {
+    if let Some(z) = table.column(&format!("wall_distance_{unit_name}")) {
+        return Ok(z);
+    }
+    match (table.column("wall_distance_mm"), length_mm) {
+        (Some(mm), Some(len)) => Ok(mm.iter().map(|v| v / len).collect()),
+        (Some(_), None) => bail!(
+            "{}: has wall_distance_mm but not wall_distance_{unit_name}; give {length_flag} MM or a --summary",
+            table.source
+        ),
+        (None, _) => bail!(
+            "{}: missing column wall_distance_{unit_name} or wall_distance_mm (the header needs one of them and void_fraction)",
+            table.source
+        ),
+    }
+}
+
+/// The void fraction column.
+pub fn void_fraction(table: &Table) -> Result<Vec<f64>> {
+    table.column("void_fraction").with_context(|| format!("{}: missing column void_fraction", table.source))
+}
+
+/// The tube diameter implied by `r_mm + wall_distance_mm` (first row).
+pub fn tube_diameter_from_columns(table: &Table) -> Option<f64> {
+    let r = table.column("r_mm")?;
+    let w = table.column("wall_distance_mm")?;
+    let d = 2.0 * (r.first()? + w.first()?);
+    (d.is_finite() && d > 0.0).then_some(d)
+}
+
+/// The pellet length (mm) implied by `wall_distance_mm / wall_distance_{unit}`
+/// (`unit` = `dp` or `dpv`), from the row farthest from the wall, where the
+/// CSV's rounding matters least.
+pub fn length_from_columns(table: &Table, unit_name: &str) -> Option<f64> {
+    let mm = table.column("wall_distance_mm")?;
+    let z = table.column(&format!("wall_distance_{unit_name}"))?;
+    let (m, z) = mm
+        .iter()
+        .zip(&z)
+        .filter(|(m, z)| m.is_finite() && z.is_finite() && **m > 0.0 && **z > 0.0)
+        .max_by(|a, b| a.1.total_cmp(b.1))?;
+    Some(m / z)
+}
+
+/// A profile's columns: wall distance, void fraction, optional spread.
+pub type Rows = (Vec<f64>, Vec<f64>, Option<Vec<f64>>);
+
+/// Sorts (z, ε, spread) rows by z and drops rows with a non-finite z or ε.
+pub fn sorted_rows(z: Vec<f64>, eps: Vec<f64>, spread: Option<Vec<f64>>) -> Rows {
+    let mut rows: Vec<(f64, f64, f64)> = z
+        .into_iter()
+        .zip(eps)
+        .enumerate()
+        .map(|(i, (z, e))| (z, e, spread.as_ref().map_or(0.0, |s| s[i])))
+        .filter(|(z, e, _)| z.is_finite() && e.is_finite())
+        .collect();
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let has_spread = spread.is_some();
+    let z = rows.iter().map(|r| r.0).collect();
+    let e = rows.iter().map(|r| r.1).collect();
+    let s = has_spread.then(|| rows.iter().map(|r| if r.2.is_finite() { r.2 } else { 0.0 }).collect());
+    (z, e, s)
+}
+
+/// The fields of a voidprof summary JSON that compare uses; all optional so
+/// that hand-written summaries work.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct Summary {
+    /// Tube-average porosity.
+    pub bulk_porosity: Option<f64>,
+    /// Pellet shape name.
+    pub shape: Option<String>,
+    /// Nominal pellet diameter (mm).
+    pub pellet_diameter_mm: Option<f64>,
+    /// Volume-equivalent sphere diameter (mm).
+    pub dpv_mm: Option<f64>,
+    /// Tube diameter (mm).
+    pub tube_diameter_mm: Option<f64>,
+    /// D/dp.
+    #[serde(rename = "N")]
+    pub n: Option<f64>,
+    /// D/dpv.
+    #[serde(rename = "N_dpv")]
+    pub n_dpv: Option<f64>,
+    /// Rings: inner over outer diameter, if the summary carries it.
+    pub ring_di_do: Option<f64>,
+    /// Wadell sphericity of the pellets, if the summary carries it.
+    pub sphericity: Option<f64>,
+    /// Number of pellets.
+    pub pellets: Option<u64>,
+}
+
+/// Parses a summary JSON object.
+pub fn parse_summary(source: &str, bytes: &[u8]) -> Result<Summary> {
+    serde_json::from_slice(bytes).with_context(|| format!("{source}: not a voidprof summary (JSON object)"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn voidprof_header_parses_and_sorts() {
+        let csv = "r_mm,wall_distance_mm,wall_distance_dp,wall_distance_dpv,void_fraction\n\
+                   24,1,0.1,0.1,0.7\n25,0,0,0,1\n";
+        let t = Table::parse("p.csv", csv.as_bytes()).unwrap();
+        assert_eq!(tube_diameter_from_columns(&t), Some(50.0));
+        assert_eq!(length_from_columns(&t, "dp"), Some(10.0));
+        let z = wall_distance(&t, "dp", None, "--dp").unwrap();
+        let (z, e, s) = sorted_rows(z, void_fraction(&t).unwrap(), None);
+        assert_eq!((z, e, s), (vec![0.0, 0.1], vec![1.0, 0.7], None));
+    }
+
+    #[test]
+    fn foreign_csv_with_mm_needs_the_pellet_length() {
+        let t = Table::parse("f.csv", b"wall_distance_mm,void_fraction,extra\n0,1,x\n").unwrap_err();
+        assert!(t.to_string().contains("column extra"), "{t}");
+        let t = Table::parse("f.csv", b"wall_distance_mm,void_fraction\n0,1\n5,0.3\n").unwrap();
+        assert_eq!(wall_distance(&t, "dp", Some(10.0), "--dp").unwrap(), vec![0.0, 0.5]);
+        let e = wall_distance(&t, "dp", None, "--dp").unwrap_err().to_string();
+        assert!(e.contains("give --dp"), "{e}");
+    }
+
+    #[test]
+    fn missing_columns_and_empty_files_are_named() {
+        let t = Table::parse("g.csv", b"z,eps\n0,1\n").unwrap();
+        assert!(wall_distance(&t, "dp", None, "--dp").unwrap_err().to_string().contains("missing column"));
+        assert!(void_fraction(&t).unwrap_err().to_string().contains("missing column void_fraction"));
+        assert!(Table::parse("h.csv", b"").unwrap_err().to_string().contains("empty file"));
+    }
+
+    #[test]
+    fn summary_fields_are_optional() {
+        let s = parse_summary("s.json", br#"{"bulk_porosity":0.41,"N":6.0,"shape":"sphere","extra":[1]}"#).unwrap();
+        assert_eq!((s.bulk_porosity, s.n, s.shape.as_deref()), (Some(0.41), Some(6.0), Some("sphere")));
+        assert!(parse_summary("s.json", b"[1]").is_err());
+    }
+}
