@@ -38,6 +38,12 @@
 //! so the file alone is enough), and every pellet's type index, centroid
 //! position (m) and unit quaternion (w, x, y, z) mapping body to world.
 //!
+//! # Pellet poses from elsewhere (CSV)
+//!
+//! `voidprof --poses` reads beds made by other generators as CSV:
+//! `id,x,y,z[,qw,qx,qy,qz]`, millimetres, body → world quaternions; see
+//! [`decode_poses_csv`] and the `poses_csv` module for the details.
+//!
 //! # Meshes
 //!
 //! STL (binary or ASCII) and Wavefront OBJ are read into
@@ -50,6 +56,7 @@ mod atomic;
 mod mesh_files;
 mod packing_file;
 mod pellet_file;
+mod poses_csv;
 
 pub use atomic::{read_input, write_outputs, OutputFile};
 pub use mesh_files::{obj_bytes, read_mesh, stl_bytes, MeshFormat};
@@ -57,6 +64,7 @@ pub use packing_file::{
     decode_packing, encode_packing, PackingFile, SettleVerdict, PACKING_FORMAT_VERSION, PACKING_MAGIC,
 };
 pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELLET_FORMAT_VERSION, PELLET_MAGIC};
+pub use poses_csv::decode_poses_csv;
 
 /// What can go wrong reading or writing packbed's files.
 #[derive(Debug, thiserror::Error)]
