@@ -38,6 +38,7 @@ pub mod clip;
 pub mod line;
 pub mod profile;
 pub mod raster;
+pub mod refine;
 pub mod structure;
 pub mod synthetic;
 

@@ -14,10 +14,15 @@ use pellet_geom::math::Real;
 use pellet_geom::Bed;
 
 use crate::line::{Geometry, LineCaster};
+use crate::refine::Refiner;
 use crate::{bed_top, reference_diameters, AnalysisError};
 
 /// Largest number of lines one profile may use (memory and time guard).
 pub const MAX_LINES: usize = 50_000_000;
+
+/// Difference in line length between neighbouring lines, as a fraction of
+/// dp, above which the gap between them is refined (see [`crate::refine`]).
+pub const REFINE_TOLERANCE: Real = 0.1;
 
 /// Fewest lines on a circle. A vertical pellet face (a standing cylinder's
 /// side, a lying one's end) makes the line length jump with θ, and a jump
@@ -189,6 +194,7 @@ pub fn void_profile(bed: &Bed, params: &ProfileParams) -> Result<VoidProfile, An
     let mut next_entry = 0;
     let mut buffers: Vec<Vec<(Real, Real)>> = Vec::new();
     let mut merged: Vec<(Real, Real)> = Vec::new();
+    let mut lengths: Vec<Real> = Vec::new();
     let chunk = ((0.5 * dp / dr).ceil() as usize).max(1);
     let mut first = 0;
     while first < m {
@@ -228,15 +234,46 @@ pub fn void_profile(bed: &Bed, params: &ProfileParams) -> Result<VoidProfile, An
                 }
             }
         }
+        let mut refiner = Refiner::new(active.iter().map(|(_, c)| c).collect(), (z0, z1), dp * REFINE_TOLERANCE);
         for i in first..last {
-            let base = offsets[i - first];
-            let w = if lines[i] > 0 { weight[i] / lines[i] as Real } else { 0.0 };
-            for buffer in &mut buffers[base..base + lines[i]] {
+            let (base, n) = (offsets[i - first], lines[i]);
+            let w = if n > 0 { weight[i] / n as Real } else { 0.0 };
+            lengths.clear();
+            for buffer in &mut buffers[base..base + n] {
                 union_in_window(buffer, (z0, z1), &mut merged);
-                for &(a, b) in &merged {
-                    solid_length[i] += b - a;
+                // The buffer now holds the merged intervals, for the refinement below.
+                std::mem::swap(buffer, &mut merged);
+                lengths.push(buffer.iter().map(|(a, b)| b - a).sum::<Real>());
+                for &(a, b) in buffer.iter() {
                     deposit(&mut axial_solid, &edges, dz, a, b, w);
                 }
+            }
+            solid_length[i] += lengths.iter().sum::<Real>();
+            if n < 2 {
+                continue;
+            }
+            let h = 2.0 * std::f64::consts::PI / n as Real;
+            for k in 0..n {
+                let k2 = (k + 1) % n;
+                if (lengths[k] - lengths[k2]).abs() <= refiner.tolerance {
+                    continue;
+                }
+                let (first_extra, last_extra, added) =
+                    refiner.gap(radius[i], line_angle(k, n), h, lengths[k], lengths[k2]);
+                // Extra weights are in radians; one line stands for h radians.
+                let mut extra = first_extra * lengths[k] + last_extra * lengths[k2];
+                for (line, e) in [(base + k, first_extra), (base + k2, last_extra)] {
+                    for &(a, b) in &buffers[line] {
+                        deposit(&mut axial_solid, &edges, dz, a, b, w * e / h);
+                    }
+                }
+                for add in &added {
+                    extra += add.weight * add.length;
+                    for &(a, b) in &add.intervals {
+                        deposit(&mut axial_solid, &edges, dz, a, b, w * add.weight / h);
+                    }
+                }
+                solid_length[i] += extra / h;
             }
         }
         first = last;
@@ -302,7 +339,7 @@ fn line_range(r: Real, n: usize, rho: Real, phi: Real, reach: Real) -> Option<(i
 }
 
 /// Sorts `intervals`, merges overlaps and clips them to `window`.
-fn union_in_window(intervals: &mut [(Real, Real)], window: (Real, Real), out: &mut Vec<(Real, Real)>) {
+pub(crate) fn union_in_window(intervals: &mut [(Real, Real)], window: (Real, Real), out: &mut Vec<(Real, Real)>) {
     out.clear();
     intervals.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
     for &(a, b) in intervals.iter() {
