@@ -1,8 +1,11 @@
 //! Speed of the default profile on a 600-sphere bed (issue 6: under 10 s on one core).
 //!
 //! ```sh
-//! cargo run --release -p pellet_analysis --example bench_voidprof
+//! cargo run --release -p pellet_analysis --example bench_voidprof [poses.csv]
 //! ```
+//!
+//! With a file name, the bed is also written as a poses CSV (mm) for
+//! timing the `voidprof` binary itself (`--poses … --tube-diameter 79.9`).
 //!
 //! The bed: 600 spheres of 10 mm, close-packed triangular layers 10.1 mm
 //! apart (a dense, lattice-like bed, porosity near that of a random packing)
@@ -24,6 +27,14 @@ fn main() {
         bed.pellets.len(),
         bed_top(&bed) * 1e3
     );
+    if let Some(path) = std::env::args().nth(1) {
+        let mut csv = String::from("id,x,y,z\n");
+        for (i, p) in bed.pellets.iter().enumerate() {
+            csv += &format!("{i},{:.9},{:.9},{:.9}\n", p.position[0] * 1e3, p.position[1] * 1e3, p.position[2] * 1e3);
+        }
+        std::fs::write(&path, csv).expect("write the poses CSV");
+        println!("poses written to {path}");
+    }
     for (name, geometry) in [("exact shape", Geometry::Auto), ("triangle mesh (--mesh)", Geometry::Mesh)] {
         let mut params = ProfileParams::new(window);
         params.geometry = geometry;

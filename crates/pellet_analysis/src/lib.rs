@@ -8,7 +8,8 @@
 //!
 //! - [`void_profile`]: ε(r) = 1 − S_int(r)/(2πrH) from vertical lines, exact
 //!   in z (closed-form chords of spheres, cylinders and rings; crossings of
-//!   the triangle mesh otherwise), sampled in θ; and ε(z) from the same lines.
+//!   the triangle mesh otherwise), sampled in θ (uniformly, refined where the
+//!   line length jumps); and ε(z) from the same lines.
 //! - [`bulk_porosity`]: 1 − (pellet volume in the window)/(tube volume of the
 //!   window), pellets cut by the planes z0 and z1 counted exactly (closed-form
 //!   caps and cylinder segments, or mesh clipping). Volumes are summed, so

@@ -5,7 +5,9 @@
 //! (r cos θ, r sin θ, z) inside the union of pellets, clipped to the window.
 //! L is exact (closed-form or mesh crossings, union of intervals so that
 //! overlapping pellets count once); only θ is sampled, uniformly with about
-//! one line per `arc_step` of circumference. The same lines, weighted by
+//! one line per `arc_step` of circumference, and refined by bisection where
+//! neighbouring lines differ by more than [`REFINE_TOLERANCE`] × dp (jumps
+//! from vertical pellet faces; see [`crate::refine`]). The same lines, weighted by
 //! the radial trapezoid rule, give the axial profile ε(z) averaged over
 //! bins, so that the radial and the axial profile integrate to the same
 //! solid volume.

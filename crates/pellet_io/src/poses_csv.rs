@@ -22,9 +22,16 @@ use crate::IoError;
 
 const NAMES: [&str; 8] = ["id", "x", "y", "z", "qw", "qx", "qy", "qz"];
 
-/// Reads a poses CSV (see the module doc) into poses of pellet type 0, in
-/// metres. `orientation_required`: refuse rows without a quaternion (every
-/// shape but the sphere).
+/// Reads a poses CSV into poses of pellet type 0, in metres.
+///
+/// One pellet per line: `id,x,y,z` (centroid, mm), then `qw,qx,qy,qz` (unit
+/// quaternion, body → world; body frame as `mkpellet` makes it: origin at
+/// the centroid, symmetry axis along z). An optional header names the
+/// columns (any order, case-insensitive, extra columns ignored); without
+/// one, 4 or 8 positional fields. `#` lines and blank lines are skipped.
+/// Quaternions are normalised; a norm off by more than 0.001 is refused.
+/// `orientation_required`: refuse rows without a quaternion (every shape
+/// but the sphere).
 pub fn decode_poses_csv(bytes: &[u8], path: &str, orientation_required: bool) -> Result<Vec<PlacedPellet>, IoError> {
     let corrupt =
         |line: usize, reason: String| IoError::Corrupt { path: path.into(), reason: format!("line {line}: {reason}") };
