@@ -121,3 +121,47 @@ pub fn orientation(bed: &Bed, window: (Real, Real), bin_deg: Real) -> Option<Ori
         order_parameter: 0.5 * (3.0 * mean_cos2 - 1.0),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pellet_geom::{Pellet, PlacedPellet, Resolution, Tube};
+
+    fn bed(positions_mm: &[[Real; 3]], orientation: [Real; 4]) -> Bed {
+        let cyl =
+            Pellet::build(ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 }, Resolution::default()).unwrap();
+        Bed {
+            tube: Tube { diameter: 0.05, lid_height: None },
+            pellet_types: vec![cyl],
+            pellets: positions_mm
+                .iter()
+                .map(|p| PlacedPellet { type_index: 0, position: p.map(|c| c * 1e-3), orientation })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn stacked_cylinders_touch_and_separated_ones_do_not() {
+        let upright = [1.0, 0.0, 0.0, 0.0];
+        // Face to face (gap 0), then 1 mm apart.
+        let stack = bed(&[[0.0, 0.0, 5.0], [0.0, 0.0, 15.0], [0.0, 0.0, 26.0]], upright);
+        let c = coordination(&stack, (0.0, 0.03), 1e-4).unwrap();
+        assert_eq!(c.histogram, vec![1, 2], "one pellet with no contact, two with one: {c:?}");
+        assert!((c.mean - 2.0 / 3.0).abs() < 1e-12);
+        // Side by side along x, 0.05 mm apart: within a 0.1 mm gap.
+        let row = bed(&[[0.0, 0.0, 5.0], [10.05, 0.0, 5.0]], upright);
+        assert_eq!(coordination(&row, (0.0, 0.01), 1e-4).unwrap().mean, 1.0);
+        assert_eq!(coordination(&row, (0.0, 0.01), 1e-5).unwrap().mean, 0.0);
+    }
+
+    #[test]
+    fn lying_cylinders_have_order_parameter_minus_one_half() {
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        let lying = bed(&[[0.0, 0.0, 5.0], [12.0, 0.0, 5.0]], [s, 0.0, s, 0.0]);
+        let o = orientation(&lying, (0.0, 0.01), 10.0).unwrap();
+        assert_eq!(o.counts, vec![0, 0, 0, 0, 0, 0, 0, 0, 2]);
+        assert!((o.order_parameter + 0.5).abs() < 1e-12);
+        let upright = bed(&[[0.0, 0.0, 5.0]], [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(orientation(&upright, (0.0, 0.01), 10.0).unwrap().counts[0], 1);
+    }
+}
