@@ -72,3 +72,47 @@ fn pellet_file_streams_through_stdout_and_stdin() {
     assert!(made.output.stdout.starts_with(b"PBPELLET"));
     s.run_with_stdin("mkpellet", &["info", "-"], Some(&made.output.stdout)).success().stdout_has("sphere");
 }
+
+#[test]
+fn mkpellet_then_voidprof_measures_a_bed_given_as_packing_and_as_poses() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["ring", "--outer-diameter", "10", "--wall", "2", "--height", "10", "-o", "r.pellet"]).success();
+    let ring = pellet_io::decode_pellet(&std::fs::read(s.file("r.pellet")).unwrap(), "r").unwrap();
+    // Until settle-check lands: a random non-overlapping bed built in code.
+    let bed = pellet_analysis::synthetic::random_placement(&ring.pellet, 0.040, 0.050, 25, 5);
+    let packing = pellet_io::PackingFile {
+        length_unit: "m".into(),
+        provenance: ring.provenance.clone(),
+        time_s: 0.0,
+        verdict: None,
+        bed: bed.clone(),
+    };
+    std::fs::write(s.file("bed.packing"), pellet_io::encode_packing(&packing).unwrap()).unwrap();
+    let mut csv = String::from("# written by the test\nid,x,y,z,qw,qx,qy,qz\n");
+    for (i, p) in bed.pellets.iter().enumerate() {
+        let [x, y, z] = p.position.map(|c| c * 1e3);
+        let [w, a, b, c] = p.orientation;
+        csv += &format!("{i},{x:.12},{y:.12},{z:.12},{w:.15},{a:.15},{b:.15},{c:.15}\n");
+    }
+    std::fs::write(s.file("bed.csv"), csv).unwrap();
+    s.run("voidprof", &["bed.packing", "--window", "5,35", "-o", "a.csv", "--summary", "a.json", "--structure"])
+        .success();
+    s.run(
+        "voidprof",
+        &["--poses", "bed.csv", "--pellet", "r.pellet", "--tube-diameter", "40", "--window", "5,35", "-o", "b.csv"],
+    )
+    .success();
+    let a = std::fs::read_to_string(s.file("a.csv")).unwrap();
+    assert!(a.starts_with("r_mm,wall_distance_mm,wall_distance_dp,wall_distance_dpv,void_fraction\n"));
+    let b = std::fs::read_to_string(s.file("b.csv")).unwrap();
+    assert_eq!(a.lines().count(), b.lines().count());
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(s.file("a.json")).unwrap()).unwrap();
+    assert_eq!(v["shape"], "ring");
+    assert_eq!(v["pellets"], bed.pellets.len());
+    let bulk = v["bulk_porosity"].as_f64().unwrap();
+    assert!((v["profile_porosity"].as_f64().unwrap() - bulk).abs() < 0.002);
+    assert!(bulk > 0.5 && bulk < 1.0, "{bulk}");
+    // A ring's dpv is below its outer diameter: N_dpv > N.
+    assert!(v["N_dpv"].as_f64().unwrap() > v["N"].as_f64().unwrap());
+    assert_eq!(v["per_bed"][0]["orientation"]["edges_deg"].as_array().unwrap().len(), 10);
+}

@@ -61,6 +61,11 @@
 //! serde layout of the Rust types. Log times are simulated nanoseconds.
 //! `pack` writes to `<name>.part` and renames it when done; a killed run
 //! leaves the `.part` file, readable up to its last complete chunk.
+//! # Pellet poses from elsewhere (CSV)
+//!
+//! `voidprof --poses` reads beds made by other generators as CSV:
+//! `id,x,y,z[,qw,qx,qy,qz]`, millimetres, body → world quaternions; see
+//! [`decode_poses_csv`] and the `poses_csv` module for the details.
 //!
 //! # Meshes
 //!
@@ -74,6 +79,7 @@ mod atomic;
 mod mesh_files;
 mod packing_file;
 mod pellet_file;
+mod poses_csv;
 mod trajectory;
 
 pub use atomic::{read_input, write_outputs, OutputFile};
@@ -82,6 +88,7 @@ pub use packing_file::{
     decode_packing, encode_packing, PackingFile, SettleVerdict, PACKING_FORMAT_VERSION, PACKING_MAGIC,
 };
 pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELLET_FORMAT_VERSION, PELLET_MAGIC};
+pub use poses_csv::decode_poses_csv;
 pub use trajectory::{
     read_trajectory, EnergyRecord, Frame, Trajectory, TrajectoryHeader, TrajectoryWriter, ENERGY_TOPIC,
     MESSAGE_ENCODING, POSES_TOPIC, RUN_METADATA, TRAJECTORY_PROFILE,

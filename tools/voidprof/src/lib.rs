@@ -1,0 +1,274 @@
+//! `voidprof`: the radial void fraction ε(r), the axial profile ε(z) and
+//! the exact bulk porosity of packed beds, from `.packing` files or from
+//! pellet poses made elsewhere (CSV).
+//!
+//! [`run`] reads the inputs, [`measure`] computes a [`Measurement`] (the
+//! mean profile and its spread over the beds, ready for a plot), and the
+//! `output` module turns it into the CSV and JSON outputs.
+
+use anyhow::{bail, Context};
+use clap::Parser;
+
+use pellet_analysis::{
+    average_profiles, bulk_porosity, coordination, orientation, reference_diameters, void_profile, BulkPorosity,
+    Coordination, Geometry, OrientationHistogram, ProfileParams, ProfileStats, VoidProfile,
+};
+use pellet_cli::{positive_mm, Outcome};
+use pellet_geom::{Bed, Tube};
+use pellet_io::OutputFile;
+
+mod output;
+
+const MM: f64 = 1e-3;
+
+const EXAMPLES: &str = "\
+Examples:
+  voidprof bed.packing -o profile.csv --summary bed.json
+  voidprof a.packing b.packing c.packing -o mean.csv --spread spread.csv --summary abc.json
+  voidprof --poses bed.csv --pellet sphere.pellet --tube-diameter 59.6 --window 0,100 -o -
+  settle-check run.mcap -o - | voidprof - --axial axial.csv --structure --summary s.json -o profile.csv
+
+Output CSV header: r_mm,wall_distance_mm,wall_distance_dp,wall_distance_dpv,void_fraction
+All lengths are in millimetres; the tube axis is z and the floor z = 0.
+Exit codes: 0 success, 2 error.";
+
+/// Measure packed beds: radial void fraction ε(r) on coaxial cylinders, the
+/// axial profile ε(z) and the exact bulk porosity of an axial window.
+#[derive(Debug, Parser)]
+#[command(name = "voidprof", version, after_help = EXAMPLES, allow_negative_numbers = true)]
+pub struct Args {
+    /// Packing files (from settle-check); `-` reads one from stdin. Several
+    /// beds give the mean profile and its spread.
+    #[arg(conflicts_with = "poses")]
+    pub packings: Vec<String>,
+    /// Pellet poses from another generator, as CSV: id,x,y,z (mm) and qw,qx,qy,qz unless spheres.
+    #[arg(long, requires_all = ["pellet", "tube_diameter"])]
+    pub poses: Option<String>,
+    /// The pellet file for --poses (from mkpellet).
+    #[arg(long, requires = "poses")]
+    pub pellet: Option<String>,
+    /// Inner tube diameter for --poses (mm).
+    #[arg(long, requires = "poses")]
+    pub tube_diameter: Option<f64>,
+    /// Axial window z0,z1 (mm): the paper counts from the bottom to 100 mm.
+    #[arg(long, default_value = "0,100", allow_hyphen_values = true)]
+    pub window: String,
+    /// Radial step (mm), from the wall inward [default: dp/50].
+    #[arg(long)]
+    pub dr: Option<f64>,
+    /// Spacing of the sampled lines along each circle (mm) [default: dp/250].
+    #[arg(long)]
+    pub arc: Option<f64>,
+    /// Bin height of the axial profile (mm) [default: dp/20].
+    #[arg(long)]
+    pub dz: Option<f64>,
+    /// Intersect the triangle meshes even where the exact shape is known.
+    #[arg(long)]
+    pub mesh: bool,
+    /// The radial profile as CSV (`-` = stdout).
+    #[arg(short, long, default_value = "-")]
+    pub output: String,
+    /// A JSON summary: bulk porosity, window, pellets, shape, dp, dpv, N, …
+    #[arg(long)]
+    pub summary: Option<String>,
+    /// The axial profile ε(z) as CSV: z_mm,z_dp,void_fraction.
+    #[arg(long)]
+    pub axial: Option<String>,
+    /// The radial profile of every bed with mean, standard deviation, min and max, as CSV.
+    #[arg(long)]
+    pub spread: Option<String>,
+    /// Add the coordination number and the orientation of pellet axes to the summary.
+    #[arg(long)]
+    pub structure: bool,
+    /// Surface gap below which two pellets count as touching (mm) [default: dp/100].
+    #[arg(long)]
+    pub contact_gap: Option<f64>,
+}
+
+/// One measured bed.
+pub struct BedResult {
+    /// Where it came from.
+    pub source: String,
+    /// Pellets in the bed.
+    pub pellets: usize,
+    /// The radial (and axial) profile.
+    pub profile: VoidProfile,
+    /// Bulk porosity of the window.
+    pub bulk: BulkPorosity,
+    /// Contacts, with --structure and a closed-form shape.
+    pub coordination: Option<Coordination>,
+    /// Axis orientations, with --structure and an axial shape.
+    pub orientation: Option<OrientationHistogram>,
+}
+
+/// Everything `voidprof` reports: each bed and the mean over the beds.
+pub struct Measurement {
+    /// The beds, in the order given.
+    pub beds: Vec<BedResult>,
+    /// Mean radial profile and its spread (what a plot draws).
+    pub stats: ProfileStats,
+    /// Pellet diameter dp (m).
+    pub dp: f64,
+    /// Equal-volume sphere diameter dpv (m).
+    pub dpv: f64,
+    /// Shape name of the first pellet type.
+    pub shape: String,
+    /// Tube diameter (m).
+    pub tube_diameter: f64,
+    /// The window (m).
+    pub window: (f64, f64),
+    /// Whether meshes were used throughout.
+    pub mesh: bool,
+}
+
+/// Runs `voidprof`.
+pub fn run(args: Args) -> anyhow::Result<Outcome> {
+    let beds = read_beds(&args)?;
+    let m = measure(&args, beds)?;
+    let mut outputs = vec![OutputFile {
+        path: args.output.clone(),
+        bytes: output::radial_csv(&m).into_bytes(),
+        binary: false,
+        what: "profile CSV".into(),
+    }];
+    if let Some(path) = &args.summary {
+        let text = serde_json::to_string_pretty(&output::summary(&m))? + "\n";
+        outputs.push(OutputFile {
+            path: path.clone(),
+            bytes: text.into_bytes(),
+            binary: false,
+            what: "summary".into(),
+        });
+    }
+    if let Some(path) = &args.axial {
+        let bytes = output::axial_csv(&m).into_bytes();
+        outputs.push(OutputFile { path: path.clone(), bytes, binary: false, what: "axial CSV".into() });
+    }
+    if let Some(path) = &args.spread {
+        let bytes = output::spread_csv(&m).into_bytes();
+        outputs.push(OutputFile { path: path.clone(), bytes, binary: false, what: "spread CSV".into() });
+    }
+    if outputs.iter().filter(|o| o.path == "-").count() > 1 {
+        bail!("only one output can go to stdout (-); give the others file names");
+    }
+    pellet_io::write_outputs(&outputs)?;
+    Ok(Outcome::Success)
+}
+
+/// Parses `z0,z1` in mm into metres.
+pub fn parse_window(text: &str) -> anyhow::Result<(f64, f64)> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [a, b] = parts.as_slice() else {
+        bail!("--window must be z0,z1 in mm, e.g. --window 0,100 (got {text:?})");
+    };
+    let parse = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite());
+    match (parse(a), parse(b)) {
+        (Some(z0), Some(z1)) if z1 > z0 => Ok((z0 * MM, z1 * MM)),
+        (Some(_), Some(_)) => bail!("--window z0,z1 needs z1 > z0 (got {text:?})"),
+        _ => bail!("--window must be two finite numbers z0,z1 in mm (got {text:?})"),
+    }
+}
+
+/// Reads the beds named by the arguments.
+pub fn read_beds(args: &Args) -> anyhow::Result<Vec<(String, Bed)>> {
+    if let Some(poses_path) = &args.poses {
+        let pellet_path = args.pellet.as_deref().context("--poses needs --pellet")?;
+        let diameter = positive_mm("--tube-diameter", args.tube_diameter.context("--poses needs --tube-diameter")?)?;
+        if pellet_path == "-" && poses_path == "-" {
+            bail!("only one of --pellet and --poses can read stdin (-)");
+        }
+        let pellet = pellet_io::decode_pellet(&pellet_io::read_input(pellet_path)?, pellet_path)?.pellet;
+        let is_sphere = matches!(pellet.shape, pellet_geom::ShapeSpec::Sphere { .. });
+        let poses = pellet_io::decode_poses_csv(&pellet_io::read_input(poses_path)?, poses_path, !is_sphere)?;
+        let bed = Bed {
+            tube: Tube { diameter: diameter * MM, lid_height: None },
+            pellet_types: vec![pellet],
+            pellets: poses,
+        };
+        bed.validate().with_context(|| poses_path.clone())?;
+        return Ok(vec![(poses_path.clone(), bed)]);
+    }
+    if args.packings.is_empty() {
+        bail!("give a packing file (or - for stdin), or --poses with --pellet and --tube-diameter");
+    }
+    if args.packings.iter().filter(|p| *p == "-").count() > 1 {
+        bail!("stdin (-) can be read only once");
+    }
+    args.packings
+        .iter()
+        .map(|path| Ok((path.clone(), pellet_io::decode_packing(&pellet_io::read_input(path)?, path)?.bed)))
+        .collect()
+}
+
+/// Measures every bed and averages the profiles.
+pub fn measure(args: &Args, beds: Vec<(String, Bed)>) -> anyhow::Result<Measurement> {
+    let window = parse_window(&args.window)?;
+    let optional = |flag: &str, v: Option<f64>| v.map(|v| positive_mm(flag, v).map(|v| v * MM)).transpose();
+    let geometry = if args.mesh { Geometry::Mesh } else { Geometry::Auto };
+    let params = ProfileParams {
+        window,
+        radial_step: optional("--dr", args.dr)?,
+        arc_step: optional("--arc", args.arc)?,
+        axial_step: optional("--dz", args.dz)?,
+        geometry,
+    };
+    let gap = optional("--contact-gap", args.contact_gap)?;
+    let (first_source, first_bed) = beds.first().context("no beds")?;
+    let (dp, dpv) = reference_diameters(first_bed).with_context(|| first_source.clone())?;
+    let shape = first_bed.pellet_types[0].shape.kind().to_string();
+    let tube_diameter = first_bed.tube.diameter;
+    let mut results = Vec::new();
+    for (source, bed) in beds {
+        let hint =
+            |e: pellet_analysis::AnalysisError| anyhow::anyhow!("{source}: {e} (set it with --window z0,z1 in mm)");
+        let profile = void_profile(&bed, &params).map_err(|e| match e {
+            pellet_analysis::AnalysisError::Window { .. } => hint(e),
+            other => anyhow::anyhow!("{source}: {other}"),
+        })?;
+        let bulk = bulk_porosity(&bed, window, geometry).with_context(|| source.clone())?;
+        let (coordination, orientation) = if args.structure {
+            (coordination(&bed, window, gap.unwrap_or(dp / 100.0)), orientation(&bed, window, 10.0))
+        } else {
+            (None, None)
+        };
+        results.push(BedResult { source, pellets: bed.pellets.len(), profile, bulk, coordination, orientation });
+    }
+    let profiles: Vec<VoidProfile> = results.iter().map(|b| b.profile.clone()).collect();
+    let stats = average_profiles(&profiles)?;
+    Ok(Measurement { beds: results, stats, dp, dpv, shape, tube_diameter, window, mesh: args.mesh })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flags_parse() {
+        let a =
+            Args::try_parse_from(["voidprof", "a.packing", "b.packing", "--window", "10,90", "--dr", "0.1"]).unwrap();
+        assert_eq!(a.packings, ["a.packing", "b.packing"]);
+        assert_eq!(parse_window(&a.window).unwrap(), (0.010, 0.090));
+        assert_eq!(a.dr, Some(0.1));
+        assert_eq!(a.output, "-");
+        let p =
+            Args::try_parse_from(["voidprof", "--poses", "b.csv", "--pellet", "s.pellet", "--tube-diameter", "59.6"])
+                .unwrap();
+        assert_eq!(p.tube_diameter, Some(59.6));
+        // --poses needs the pellet and the tube; and excludes packing files.
+        assert!(Args::try_parse_from(["voidprof", "--poses", "b.csv"]).is_err());
+        assert!(Args::try_parse_from([
+            "voidprof",
+            "a.packing",
+            "--poses",
+            "b.csv",
+            "--pellet",
+            "s.pellet",
+            "--tube-diameter",
+            "30"
+        ])
+        .is_err());
+        for bad in ["10", "a,b", "5,5", "9,1", "1,2,3", "0,inf"] {
+            assert!(parse_window(bad).is_err(), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,261 @@
+//! Process-boundary tests of `voidprof`: outputs, stdin, several beds, exit codes and one-line errors.
+
+use std::f64::consts::PI;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+use pellet_analysis::synthetic::{random_placement, simple_cubic};
+use pellet_geom::{Bed, Pellet, Resolution, ShapeSpec};
+use pellet_io::{PackingFile, Provenance};
+
+const MM: f64 = 1e-3;
+
+fn voidprof(dir: &Path, args: &[&str], stdin: Option<&[u8]>) -> Output {
+    use std::io::Write;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_voidprof"))
+        .args(args)
+        .current_dir(dir)
+        .stdin(if stdin.is_some() { Stdio::piped() } else { Stdio::null() })
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run voidprof");
+    if let Some(data) = stdin {
+        child.stdin.take().unwrap().write_all(data).unwrap();
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[track_caller]
+fn assert_ok(out: &Output) {
+    assert_eq!(out.status.code(), Some(0), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[track_caller]
+fn assert_error(out: &Output, needle: &str) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "stderr: {err}");
+    assert!(err.starts_with("voidprof: error: "), "{err}");
+    assert!(err.contains(needle), "stderr lacks {needle:?}: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "not one line: {err}");
+}
+
+fn sphere() -> Pellet {
+    Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution::default()).unwrap()
+}
+
+fn packing_bytes(bed: &Bed) -> Vec<u8> {
+    let file = PackingFile {
+        length_unit: "m".into(),
+        provenance: Provenance { tool: "test".into(), version: "0".into(), args: vec![] },
+        time_s: 0.0,
+        verdict: None,
+        bed: bed.clone(),
+    };
+    pellet_io::encode_packing(&file).unwrap()
+}
+
+/// (r, ε) rows of a radial CSV, after checking the header.
+fn rows(csv: &str) -> Vec<Vec<f64>> {
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("r_mm,wall_distance_mm,wall_distance_dp,wall_distance_dpv,void_fraction"));
+    lines.map(|l| l.split(',').map(|f| f.parse().unwrap()).collect()).collect()
+}
+
+fn integrated(rows: &[Vec<f64>]) -> f64 {
+    let r_tube = rows.last().unwrap()[0];
+    let sum: f64 = rows.windows(2).map(|w| 0.5 * (w[1][0] - w[0][0]) * (w[0][0] * w[0][4] + w[1][0] * w[1][4])).sum();
+    2.0 * sum / (r_tube * r_tube)
+}
+
+/// The analytic bulk porosity of the simple-cubic lattice of 10 mm spheres in `bed`.
+fn cubic_porosity(bed: &Bed, z0: f64, z1: f64) -> f64 {
+    let a = 5.0;
+    let above = |z: f64, zc: f64| {
+        let h = (a - (z - zc)).clamp(0.0, 2.0 * a);
+        PI * h * h * (3.0 * a - h) / 3.0
+    };
+    let solid: f64 = bed.pellets.iter().map(|p| above(z0, p.position[2] / MM) - above(z1, p.position[2] / MM)).sum();
+    let r = 0.5 * bed.tube.diameter / MM;
+    1.0 - solid / (PI * r * r * (z1 - z0))
+}
+
+#[test]
+fn a_lattice_packing_gives_the_profile_summary_and_axial_profile() {
+    let dir = tempfile::tempdir().unwrap();
+    let bed = simple_cubic(&sphere(), 40.0 * MM, 10.0 * MM, 5);
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
+    let out = voidprof(
+        dir.path(),
+        &["bed.packing", "--window", "3,41.5", "-o", "p.csv", "--summary", "s.json", "--axial", "a.csv", "--structure"],
+        None,
+    );
+    assert_ok(&out);
+    assert!(out.stdout.is_empty());
+    let rows = rows(&std::fs::read_to_string(dir.path().join("p.csv")).unwrap());
+    let analytic = cubic_porosity(&bed, 3.0, 41.5);
+    // The wall row: r = R, wall distance 0, ε = 1; the axis row: r = 0.
+    let (first, last) = (&rows[0], rows.last().unwrap());
+    assert_eq!((first[0], last[0], last[1], last[4]), (0.0, 20.0, 0.0, 1.0));
+    assert!((first[2] - 2.0).abs() < 1e-9, "wall distance in dp: {}", first[2]);
+    assert!((rows[rows.len() - 2][1] - 0.2).abs() < 1e-9, "default step dp/50");
+    assert!((integrated(&rows) - analytic).abs() < 0.002, "{} vs {analytic}", integrated(&rows));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    assert!((s["bulk_porosity"].as_f64().unwrap() - analytic).abs() < 0.001);
+    assert_eq!(s["window_mm"], serde_json::json!([3.0, 41.5]));
+    assert_eq!(s["pellets"], 45);
+    assert_eq!(s["shape"], "sphere");
+    assert_eq!(s["pellet_diameter_mm"], 10.0);
+    assert_eq!(s["tube_diameter_mm"], 40.0);
+    assert_eq!(s["N"], 4.0);
+    assert!((s["dpv_mm"].as_f64().unwrap() - 10.0).abs() < 0.05);
+    assert!((s["N_dpv"].as_f64().unwrap() - 4.0).abs() < 0.02);
+    // Touching simple-cubic spheres: 4 neighbours in the layer, up to 2 above and below.
+    let c = &s["per_bed"][0]["coordination"];
+    assert!(c["mean"].as_f64().unwrap() > 2.0, "{c}");
+    assert!(s["per_bed"][0]["orientation"].is_null());
+    let axial = std::fs::read_to_string(dir.path().join("a.csv")).unwrap();
+    assert!(axial.starts_with("z_mm,z_dp,void_fraction\n"));
+    assert_eq!(axial.lines().count(), 1 + 77, "38.5 mm in 0.5 mm bins");
+}
+
+#[test]
+fn stdin_and_stdout_work_and_match_the_file_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let bed = simple_cubic(&sphere(), 40.0 * MM, 10.0 * MM, 3);
+    let bytes = packing_bytes(&bed);
+    std::fs::write(dir.path().join("bed.packing"), &bytes).unwrap();
+    let piped = voidprof(dir.path(), &["-", "--window", "0,30"], Some(&bytes));
+    assert_ok(&piped);
+    let from_file = voidprof(dir.path(), &["bed.packing", "--window", "0,30", "-o", "-"], None);
+    assert_ok(&from_file);
+    assert_eq!(piped.stdout, from_file.stdout);
+    assert!(!piped.stdout.is_empty());
+}
+
+#[test]
+fn poses_csv_gives_the_same_profile_as_the_packing() {
+    let dir = tempfile::tempdir().unwrap();
+    let cyl = Pellet::build(ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 }, Resolution::default()).unwrap();
+    let bed = random_placement(&cyl, 40.0 * MM, 50.0 * MM, 20, 3);
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
+    let pellet_file = pellet_io::PelletFile {
+        length_unit: "m".into(),
+        provenance: Provenance { tool: "test".into(), version: "0".into(), args: vec![] },
+        pellet: cyl.clone(),
+    };
+    std::fs::write(dir.path().join("c.pellet"), pellet_io::encode_pellet(&pellet_file).unwrap()).unwrap();
+    let mut csv = String::from("id,x,y,z,qw,qx,qy,qz\n");
+    for (i, p) in bed.pellets.iter().enumerate() {
+        let [x, y, z] = p.position.map(|c| c / MM);
+        let [w, a, b, c] = p.orientation;
+        csv += &format!("{i},{x:.12},{y:.12},{z:.12},{w:.15},{a:.15},{b:.15},{c:.15}\n");
+    }
+    std::fs::write(dir.path().join("bed.csv"), &csv).unwrap();
+    let window = ["--window", "5,30", "--summary"];
+    let a = voidprof(dir.path(), &[&["bed.packing"][..], &window, &["a.json"]].concat(), None);
+    let b = voidprof(
+        dir.path(),
+        &[&["--poses", "bed.csv", "--pellet", "c.pellet", "--tube-diameter", "40"][..], &window, &["b.json"]].concat(),
+        None,
+    );
+    assert_ok(&a);
+    assert_ok(&b);
+    let (ra, rb) = (rows(&String::from_utf8_lossy(&a.stdout)), rows(&String::from_utf8_lossy(&b.stdout)));
+    assert_eq!(ra.len(), rb.len());
+    for (x, y) in ra.iter().zip(&rb) {
+        assert!((x[4] - y[4]).abs() < 1e-5, "{x:?} vs {y:?}");
+    }
+    let read = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join(name)).unwrap()).unwrap()
+    };
+    let (sa, sb) = (read("a.json"), read("b.json"));
+    assert!((sa["bulk_porosity"].as_f64().unwrap() - sb["bulk_porosity"].as_f64().unwrap()).abs() < 1e-6);
+    assert_eq!(sb["shape"], "cylinder");
+    // A cylinder needs orientations.
+    let no_q: String = bed
+        .pellets
+        .iter()
+        .enumerate()
+        .map(|(i, p)| format!("{i},{},{},{}\n", p.position[0] / MM, p.position[1] / MM, p.position[2] / MM))
+        .collect();
+    std::fs::write(dir.path().join("noq.csv"), no_q).unwrap();
+    let out = voidprof(dir.path(), &["--poses", "noq.csv", "--pellet", "c.pellet", "--tube-diameter", "40"], None);
+    assert_error(&out, "qw,qx,qy,qz");
+}
+
+#[test]
+fn several_beds_give_the_mean_and_the_spread() {
+    let dir = tempfile::tempdir().unwrap();
+    let names = ["a.packing", "b.packing", "c.packing"];
+    for (seed, name) in names.iter().enumerate() {
+        let bed = random_placement(&sphere(), 30.0 * MM, 40.0 * MM, 20, seed as u64);
+        std::fs::write(dir.path().join(name), packing_bytes(&bed)).unwrap();
+    }
+    let out = voidprof(
+        dir.path(),
+        &[&names[..], &["--window", "2,25", "-o", "mean.csv", "--spread", "spread.csv", "--summary", "s.json"]]
+            .concat(),
+        None,
+    );
+    assert_ok(&out);
+    let mean = rows(&std::fs::read_to_string(dir.path().join("mean.csv")).unwrap());
+    let spread = std::fs::read_to_string(dir.path().join("spread.csv")).unwrap();
+    let mut lines = spread.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "r_mm,wall_distance_mm,wall_distance_dpv,void_fraction_mean,void_fraction_std,void_fraction_min,void_fraction_max,void_fraction_1,void_fraction_2,void_fraction_3"
+    );
+    for (line, m) in lines.zip(&mean) {
+        let v: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
+        assert!((v[3] - m[4]).abs() < 2e-6);
+        let each = &v[7..];
+        assert!((each.iter().sum::<f64>() / 3.0 - v[3]).abs() < 2e-6);
+        assert!(v[5] <= v[3] + 1e-9 && v[3] <= v[6] + 1e-9);
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    assert_eq!(s["beds"], 3);
+    let each: Vec<f64> = (0..3).map(|k| s["per_bed"][k]["bulk_porosity"].as_f64().unwrap()).collect();
+    assert!((s["bulk_porosity"].as_f64().unwrap() - each.iter().sum::<f64>() / 3.0).abs() < 1e-12);
+    assert!(s["bulk_porosity_std"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn bad_input_exits_2_with_one_line_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let bed = simple_cubic(&sphere(), 40.0 * MM, 10.0 * MM, 3);
+    let bytes = packing_bytes(&bed);
+    std::fs::write(dir.path().join("bed.packing"), &bytes).unwrap();
+    std::fs::write(dir.path().join("cut.packing"), &bytes[..bytes.len() / 2]).unwrap();
+    std::fs::write(dir.path().join("text.packing"), b"not a packing").unwrap();
+    let outs = ["-o", "p.csv", "--summary", "s.json"];
+    let cases: &[(&[&str], &str)] = &[
+        (&["missing.packing"], "missing.packing"),
+        (&["cut.packing", "--window", "0,30"], "truncated or corrupt"),
+        (&["text.packing"], "not a packbed packing file"),
+        // The default window (0 to 100 mm) is above a 30 mm bed.
+        (&["bed.packing"], "outside the bed"),
+        (&["bed.packing", "--window", "10,40"], "outside the bed"),
+        (&["bed.packing", "--window", "-5,10"], "outside the bed"),
+        (&["bed.packing", "--window", "20,10"], "z1 > z0"),
+        (&["bed.packing", "--window", "abc"], "--window"),
+        (&["bed.packing", "--window", "0,30", "--dr", "0"], "--dr must be a finite number > 0"),
+        (&["bed.packing", "--window", "0,30", "--arc", "-1"], "--arc"),
+        (&["bed.packing", "--window", "0,30", "--dz", "0"], "--dz"),
+        (&["bed.packing", "--window", "0,30", "--dr", "1e-7"], "coarsen"),
+        (&[], "give a packing file"),
+        (&["--poses", "x.csv", "--pellet", "missing.pellet", "--tube-diameter", "0"], "--tube-diameter"),
+    ];
+    for (args, needle) in cases {
+        let out = voidprof(dir.path(), &[*args, &outs[..]].concat(), None);
+        assert_error(&out, needle);
+    }
+    assert!(!dir.path().join("p.csv").exists() && !dir.path().join("s.json").exists());
+    // Usage errors (clap) exit 2 too; --help exits 0 and shows examples.
+    assert_eq!(voidprof(dir.path(), &["--no-such-flag"], None).status.code(), Some(2));
+    let help = voidprof(dir.path(), &["--help"], None);
+    assert_ok(&help);
+    assert!(String::from_utf8_lossy(&help.stdout).contains("r_mm,wall_distance_mm"));
+}
