@@ -116,3 +116,80 @@ fn mkpellet_then_voidprof_measures_a_bed_given_as_packing_and_as_poses() {
     assert!(v["N_dpv"].as_f64().unwrap() > v["N"].as_f64().unwrap());
     assert_eq!(v["per_bed"][0]["orientation"]["edges_deg"].as_array().unwrap().len(), 10);
 }
+
+/// J0 by its power series (accurate to ~1e-9 for x ≤ 25).
+fn j0_series(x: f64) -> f64 {
+    let (mut term, mut sum) = (1.0f64, 1.0f64);
+    for k in 1..80 {
+        term *= -(x * x) / (4.0 * (k * k) as f64);
+        sum += term;
+    }
+    sum
+}
+
+#[test]
+fn voidprof_then_compare_scores_a_sphere_bed_with_numbers_recomputed_from_the_csvs() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "-o", "s.pellet"]).success();
+    let sphere = pellet_io::decode_pellet(&std::fs::read(s.file("s.pellet")).unwrap(), "s").unwrap();
+    // A close-packed sphere bed in a 45 mm tube (N = 4.5), built in code.
+    let bed = pellet_analysis::synthetic::close_packed_spheres(&sphere.pellet, 0.045, 0.0101, 60);
+    let packing = pellet_io::PackingFile {
+        length_unit: "m".into(),
+        provenance: sphere.provenance,
+        time_s: 0.0,
+        verdict: None,
+        bed,
+    };
+    std::fs::write(s.file("bed.packing"), pellet_io::encode_packing(&packing).unwrap()).unwrap();
+    s.run(
+        "voidprof",
+        &["bed.packing", "--window", "0,30", "-o", "profile.csv", "--summary", "summary.json", "--plot", "p.png"],
+    )
+    .success();
+    assert_eq!(&std::fs::read(s.file("p.png")).unwrap()[..4], b"\x89PNG");
+    s.run(
+        "compare",
+        &["--profile", "profile.csv", "--summary", "summary.json", "--ref", "mueller-1992,dixon-1988", "-o", "report/"],
+    )
+    .success();
+    for file in ["scores.json", "report.md", "profile.png", "profile.svg"] {
+        assert!(s.file("report").join(file).exists(), "report/{file} missing");
+    }
+    let scores: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(s.file("report/scores.json")).unwrap()).unwrap();
+    let find = |name: &str| scores.iter().find(|v| v["reference"] == name).unwrap_or_else(|| panic!("{name}"));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(s.file("summary.json")).unwrap()).unwrap();
+    let n = summary["N"].as_f64().unwrap();
+    assert!((n - 4.5).abs() < 1e-9);
+
+    // Dixon (1988), spheres: the relative error of the bulk porosity.
+    let bulk = summary["bulk_porosity"].as_f64().unwrap();
+    let x = 1.0 / n;
+    let dixon = 0.4 + 0.05 * x + 0.412 * x * x;
+    let dx = find("dixon-1988");
+    assert!((dx["simulated"].as_f64().unwrap() - bulk).abs() < 1e-12);
+    assert!((dx["predicted"].as_f64().unwrap() - dixon).abs() < 1e-12);
+    assert!((dx["relative_error"].as_f64().unwrap() - (bulk - dixon) / dixon).abs() < 1e-12);
+
+    // Mueller (1992) over the points the report says it scored.
+    let mu = find("mueller-1992");
+    let (z_min, z_max) = (mu["z_min"].as_f64().unwrap(), mu["z_max"].as_f64().unwrap());
+    let a = 7.45 - 3.15 / n;
+    let b = 0.315 - 0.725 / n;
+    let eb = 0.365 + 0.220 / n;
+    let csv = std::fs::read_to_string(s.file("profile.csv")).unwrap();
+    let (mut obs, mut pred) = (Vec::new(), Vec::new());
+    for line in csv.lines().skip(1) {
+        let cols: Vec<f64> = line.split(',').map(|c| c.parse().unwrap()).collect();
+        let (z, eps) = (cols[2], cols[4]);
+        if z >= z_min - 1e-12 && z <= z_max + 1e-12 {
+            obs.push(eps);
+            pred.push(eb + (1.0 - eb) * j0_series(a * z) * (-b * z).exp());
+        }
+    }
+    assert_eq!(mu["points"].as_u64(), Some(obs.len() as u64));
+    let rmse = (obs.iter().zip(&pred).map(|(o, p)| (p - o).powi(2)).sum::<f64>() / obs.len() as f64).sqrt();
+    assert!((mu["rmse"].as_f64().unwrap() - rmse).abs() < 1e-8, "{} vs {rmse}", mu["rmse"]);
+}

@@ -23,7 +23,7 @@ const MM: f64 = 1e-3;
 
 const EXAMPLES: &str = "\
 Examples:
-  voidprof bed.packing -o profile.csv --summary bed.json
+  voidprof bed.packing -o profile.csv --summary bed.json --plot profile.png --plot profile.svg
   voidprof a.packing b.packing c.packing -o mean.csv --spread spread.csv --summary abc.json
   voidprof --poses bed.csv --pellet sphere.pellet --tube-diameter 59.6 --window 0,100 -o -
   settle-check run.mcap -o - | voidprof - --axial axial.csv --structure --summary s.json -o profile.csv
@@ -80,6 +80,9 @@ pub struct Args {
     /// Add the coordination number and the orientation of pellet axes to the summary.
     #[arg(long)]
     pub structure: bool,
+    /// Draw ε against (R − r)/dp to this file (.png or .svg; repeat for both).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Vec<String>,
     /// Surface gap below which two pellets count as touching (mm) [default: dp/100].
     #[arg(long)]
     pub contact_gap: Option<f64>,
@@ -152,7 +155,34 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         bail!("only one output can go to stdout (-); give the others file names");
     }
     pellet_io::write_outputs(&outputs)?;
+    for path in &args.plot {
+        plot(&m, std::path::Path::new(path)).with_context(|| path.clone())?;
+    }
     Ok(Outcome::Success)
+}
+
+/// ε against the wall distance in dp: the mean over the beds, with ± one
+/// standard deviation as a band when there are several.
+fn plot(m: &Measurement, path: &std::path::Path) -> anyhow::Result<()> {
+    let s = &m.stats;
+    // Wall first, so that x ascends.
+    let order: Vec<usize> = (0..s.radius.len()).rev().collect();
+    let x: Vec<f64> = order.iter().map(|&i| (s.tube_radius - s.radius[i]) / m.dp).collect();
+    let y: Vec<f64> = order.iter().map(|&i| s.mean[i]).collect();
+    let label = if s.count > 1 { format!("mean of {} beds ± 1 s.d.", s.count) } else { "simulated".to_string() };
+    let mut series = pellet_plot::ProfileSeries::new(label, x, y);
+    if s.count > 1 {
+        series.spread = Some(order.iter().map(|&i| s.std[i]).collect());
+    }
+    let title = format!(
+        "{} bed, D = {:.2} mm, N = D/dp = {:.2}, window {:.0}–{:.0} mm",
+        m.shape,
+        m.tube_diameter * 1e3,
+        m.tube_diameter / m.dp,
+        m.window.0 * 1e3,
+        m.window.1 * 1e3
+    );
+    pellet_plot::plot_profile(path, &title, &[series], &[]).map_err(|e| anyhow::anyhow!("{e}"))
 }
 
 /// Parses `z0,z1` in mm into metres.

@@ -1,0 +1,121 @@
+//! `pack` at the process boundary: a few spheres, short runs.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn tool(name: &str) -> std::path::PathBuf {
+    // mkpellet and settle-check are built beside pack by `cargo build --workspace --bins`.
+    let pack = Path::new(env!("CARGO_BIN_EXE_pack"));
+    pack.with_file_name(name)
+}
+
+fn run(dir: &Path, exe: &Path, args: &[&str]) -> Output {
+    Command::new(exe).args(args).current_dir(dir).output().expect("run tool")
+}
+
+fn pack(dir: &Path, args: &[&str]) -> Output {
+    run(dir, Path::new(env!("CARGO_BIN_EXE_pack")), args)
+}
+
+fn setup() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let mk = tool("mkpellet");
+    assert!(mk.exists(), "build the workspace binaries first (make test does)");
+    let out = run(dir.path(), &mk, &["sphere", "--diameter", "10", "--faces", "500", "-o", "s.pellet"]);
+    assert_eq!(out.status.code(), Some(0));
+    dir
+}
+
+const SHORT: &[&str] = &[
+    "--pellet",
+    "s.pellet",
+    "--tube-diameter",
+    "30",
+    "--count",
+    "4",
+    "--max-time",
+    "0.4",
+    "--quiet",
+    "--spacing",
+    "0.05",
+];
+
+#[test]
+fn a_short_run_writes_a_readable_deterministic_trajectory() {
+    let dir = setup();
+    let mut a: Vec<&str> = SHORT.to_vec();
+    a.extend(["--seed", "7", "-o", "a.mcap"]);
+    let out = pack(dir.path(), &a);
+    // 0.4 s is too short to settle: exit 2, but the trajectory is complete.
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("did not settle within --max-time"));
+    let bytes = std::fs::read(dir.path().join("a.mcap")).unwrap();
+    let t = pellet_io::read_trajectory(&bytes, "a.mcap").unwrap();
+    assert!(t.truncated.is_none());
+    assert_eq!(t.pellet_files.len(), 1);
+    assert!((t.tube.unwrap().diameter - 0.030).abs() < 1e-15);
+    assert_eq!(t.run["seed"], "7");
+    assert!(t.energy.len() >= 80, "{} energy records", t.energy.len());
+    assert_eq!(t.energy.last().unwrap().pellets, 4);
+    let last = t.frames.last().unwrap();
+    assert_eq!(last.positions.len(), 4);
+    for p in &last.positions {
+        // Inside the tube (radius 15 mm, sphere radius 5 mm) and above the floor.
+        assert!(p[0].hypot(p[1]) <= 0.010 + 1e-4 && p[2] >= 0.005 - 1e-4, "{p:?}");
+    }
+    // Same seed: the same bytes. Another seed: another bed.
+    let mut b: Vec<&str> = SHORT.to_vec();
+    b.extend(["--seed", "7", "-o", "b.mcap"]);
+    pack(dir.path(), &b);
+    let again = std::fs::read(dir.path().join("b.mcap")).unwrap();
+    let tb = pellet_io::read_trajectory(&again, "b.mcap").unwrap();
+    assert_eq!(tb.frames, t.frames);
+    assert_eq!(tb.energy, t.energy);
+    let mut c: Vec<&str> = SHORT.to_vec();
+    c.extend(["--seed", "8", "-o", "c.mcap"]);
+    pack(dir.path(), &c);
+    let tc = pellet_io::read_trajectory(&std::fs::read(dir.path().join("c.mcap")).unwrap(), "c.mcap").unwrap();
+    assert_ne!(tc.frames.last().unwrap().positions, last.positions);
+    // settle-check reads it (not settled yet: exit 1).
+    let sc = run(dir.path(), &tool("settle-check"), &["a.mcap", "-o", "a.packing"]);
+    assert_eq!(sc.status.code(), Some(1), "{}", String::from_utf8_lossy(&sc.stderr));
+    assert!(dir.path().join("a.packing").exists());
+}
+
+#[test]
+fn bad_input_is_a_one_line_error_and_never_clobbers_the_output() {
+    let dir = setup();
+    std::fs::write(dir.path().join("keep.mcap"), b"precious").unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--tube-diameter", "9"], "too narrow for this pellet"),
+        (&["--cor", "1.5"], "--cor must be in [0, 1]"),
+        (&["--wall-cor", "-0.2"], "--wall-cor"),
+        (&["--density", "-5"], "--density"),
+        (&["--tube-diameter", "nan"], "--tube-diameter"),
+    ];
+    for (extra, needle) in cases {
+        let mut args = vec!["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "3", "-o", "keep.mcap"];
+        // Each flag once: replace the base value or add the flag.
+        for pair in extra.chunks(2) {
+            if let Some(i) = args.iter().position(|a| *a == pair[0]) {
+                args[i + 1] = pair[1];
+            } else {
+                args.extend_from_slice(pair);
+            }
+        }
+        let out = pack(dir.path(), &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert_eq!(std::fs::read(dir.path().join("keep.mcap")).unwrap(), b"precious");
+    }
+    let out =
+        pack(dir.path(), &["--pellet", "missing.pellet", "--tube-diameter", "30", "--count", "3", "-o", "x.mcap"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.pellet"));
+    std::fs::write(dir.path().join("case.toml"), "tube-diameter = 30\ncount = 3\ncorr = 0.5\n").unwrap();
+    let out = pack(dir.path(), &["--case", "case.toml", "--pellet", "s.pellet", "-o", "x.mcap"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("corr"));
+    assert!(!dir.path().join("x.mcap").exists());
+}
