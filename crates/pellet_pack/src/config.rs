@@ -62,6 +62,8 @@ pub struct PackOptions {
     pub max_speed: Option<f64>,
     /// Record velocities in the pose frames.
     pub record_velocities: Option<bool>,
+    /// Static friction at resting contacts (off = the paper's model).
+    pub static_friction: Option<bool>,
 }
 
 macro_rules! overlay_fields {
@@ -108,7 +110,8 @@ impl PackOptions {
             settle_window,
             settle_tolerance,
             max_speed,
-            record_velocities
+            record_velocities,
+            static_friction
         )
     }
 }
@@ -167,6 +170,8 @@ pub struct PackConfig {
     pub max_speed_m_s: f64,
     /// Whether frames carry velocities.
     pub record_velocities: bool,
+    /// Static friction at resting contacts (off: paper mode).
+    pub static_friction: bool,
 }
 
 fn check(flag: &str, v: f64, lo: f64, hi: f64, lo_open: bool, unit: &str) -> Result<f64, ConfigError> {
@@ -219,6 +224,7 @@ impl PackConfig {
             settle_tolerance: check("settle-tolerance", o.settle_tolerance.unwrap_or(1e-3), 0.0, 1.0, true, "")?,
             max_speed_m_s: check("max-speed", o.max_speed.unwrap_or(1e-3), 0.0, 1e3, true, " m/s")?,
             record_velocities: o.record_velocities.unwrap_or(false),
+            static_friction: o.static_friction.unwrap_or(false),
         })
     }
 }

@@ -146,9 +146,13 @@ fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_sim:
     let setup = |e: pellet_sim::SimError| PackError::Setup(e.to_string());
     let material = Material { density: config.density_kg_m3, cor: config.cor, friction: config.friction };
     let wall = WallMaterial { cor: config.wall_cor, friction: config.wall_friction };
-    let mut world =
-        World::new(Container::tube(config.tube_diameter_m).map_err(setup)?, material, wall, EngineParams::default())
-            .map_err(setup)?;
+    let mut world = World::new(
+        Container::tube(config.tube_diameter_m).map_err(setup)?,
+        material,
+        wall,
+        engine_params(config.static_friction),
+    )
+    .map_err(setup)?;
     let type_id = world.register_type(body_type(pellet)).map_err(setup)?;
     Ok((world, type_id))
 }
@@ -320,3 +324,16 @@ fn frame(world: &World, velocities: bool) -> Frame {
         }),
     }
 }
+
+/// The engine parameters of a pack run: the engine's defaults (paper mode),
+/// static friction if asked, and islands above [`EXACT_SOLVER_MAX_ROWS`]
+/// rows left to the iterative solver.
+fn engine_params(static_friction: bool) -> EngineParams {
+    EngineParams { exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS, static_friction, ..EngineParams::default() }
+}
+
+/// Largest island solved by Baraff's dense pivoting method in a pack run.
+/// Measured (`perf record`, 20 spheres of 10 mm in a 40 mm tube): with 64
+/// rows, the engine's default, 80 % of the time went to the dense solver and
+/// 3 s of simulated time took 29.9 s; with 16 rows it took 1.96 s.
+pub const EXACT_SOLVER_MAX_ROWS: usize = 16;

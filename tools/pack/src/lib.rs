@@ -92,6 +92,9 @@ pub struct Args {
     /// Record pellet velocities in the pose frames.
     #[arg(long)]
     record_velocities: bool,
+    /// Static friction at resting contacts (off: the paper's model, dynamic friction only).
+    #[arg(long)]
+    static_friction: bool,
     /// Simulated time limit (s) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
@@ -162,6 +165,7 @@ impl Args {
             settle_tolerance: self.settle_tolerance,
             max_speed: self.max_speed,
             record_velocities: self.record_velocities.then_some(true),
+            static_friction: self.static_friction.then_some(true),
         }
     }
 }
