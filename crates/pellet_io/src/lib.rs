@@ -76,6 +76,7 @@
 #![deny(missing_docs)]
 
 mod atomic;
+mod framed;
 mod mesh_files;
 mod packing_file;
 mod pellet_file;
@@ -106,20 +107,28 @@ pub enum IoError {
         source: std::io::Error,
     },
     /// The bytes are not a file of the expected kind.
-    #[error("{path}: not a packbed pellet file (magic {found:?}, expected {expected:?}); make one with `mkpellet`")]
+    #[error("{path}: not a packbed {kind} file (magic {found:?}, expected {expected:?}); {remedy}")]
     BadMagic {
         /// The file involved.
         path: String,
+        /// What kind of file was expected.
+        kind: String,
+        /// How to make one.
+        remedy: String,
         /// The first bytes found.
         found: String,
         /// The magic expected.
         expected: String,
     },
     /// The file's format version is not this build's.
-    #[error("{path}: pellet format version {found}, but this build reads version {supported}; re-make it with this `mkpellet`")]
+    #[error("{path}: {kind} format version {found}, but this build reads version {supported}; {remedy}")]
     UnsupportedVersion {
         /// The file involved.
         path: String,
+        /// What kind of file.
+        kind: String,
+        /// How to make one this build reads.
+        remedy: String,
         /// Version in the file.
         found: u32,
         /// Version this build reads.

@@ -86,9 +86,7 @@ impl EnergyRecord {
     }
 }
 
-fn config() -> impl bincode::config::Config {
-    bincode::config::standard().with_fixed_int_encoding().with_little_endian().with_limit::<{ 1 << 31 }>()
-}
+use crate::framed::config;
 
 fn encode<T: Serialize>(value: &T, buf: &mut Vec<u8>) -> Result<(), IoError> {
     buf.clear();

@@ -1,0 +1,75 @@
+//! The layout shared by packbed's own binary files: an 8-byte magic, a
+//! u32 little-endian format version, then a bincode 2 payload.
+
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+use crate::IoError;
+
+/// One framed file format.
+pub(crate) struct Format {
+    /// The first eight bytes.
+    pub magic: &'static [u8; 8],
+    /// The version this build writes and reads.
+    pub version: u32,
+    /// What the file is, for messages ("pellet", "packing").
+    pub kind: &'static str,
+    /// How to make one, for messages.
+    pub remedy: &'static str,
+}
+
+/// bincode 2, standard configuration, fixed-width little-endian integers.
+/// The limit stops a corrupt length prefix from asking for terabytes.
+pub(crate) fn config() -> impl bincode::config::Config {
+    bincode::config::standard().with_fixed_int_encoding().with_little_endian().with_limit::<{ 1 << 31 }>()
+}
+
+impl Format {
+    /// Magic, version and payload.
+    pub fn encode<T: Serialize>(&self, value: &T) -> Result<Vec<u8>, IoError> {
+        let mut out = Vec::with_capacity(1 << 16);
+        out.extend_from_slice(self.magic);
+        out.extend_from_slice(&self.version.to_le_bytes());
+        bincode::serde::encode_into_std_write(value, &mut out, config()).map_err(|e| IoError::Corrupt {
+            path: format!("<{}>", self.kind),
+            reason: format!("cannot encode: {e}"),
+        })?;
+        Ok(out)
+    }
+
+    /// Checks the magic and the version and decodes the payload, which must fill the rest.
+    pub fn decode<T: DeserializeOwned>(&self, bytes: &[u8], path: &str) -> Result<T, IoError> {
+        if bytes.len() < 12 || &bytes[..8] != self.magic {
+            let head = &bytes[..bytes.len().min(8)];
+            return Err(IoError::BadMagic {
+                path: path.into(),
+                kind: self.kind.into(),
+                found: String::from_utf8_lossy(head).into_owned(),
+                expected: String::from_utf8_lossy(self.magic).into_owned(),
+                remedy: self.remedy.into(),
+            });
+        }
+        let version = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+        if version != self.version {
+            return Err(IoError::UnsupportedVersion {
+                path: path.into(),
+                kind: self.kind.into(),
+                found: version,
+                supported: self.version,
+                remedy: self.remedy.into(),
+            });
+        }
+        let (value, used): (T, usize) =
+            bincode::serde::decode_from_slice(&bytes[12..], config()).map_err(|e| IoError::Corrupt {
+                path: path.into(),
+                reason: format!("truncated or corrupt {} file ({e}); {}", self.kind, self.remedy),
+            })?;
+        if used != bytes.len() - 12 {
+            return Err(IoError::Corrupt {
+                path: path.into(),
+                reason: format!("{} unexpected bytes after the {} data", bytes.len() - 12 - used, self.kind),
+            });
+        }
+        Ok(value)
+    }
+}
