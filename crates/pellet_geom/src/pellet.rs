@@ -130,13 +130,16 @@ impl Pellet {
             }
         };
         let offset = -properties.centroid.coords;
-        if offset.norm() > 0.0 {
+        // Say so only when the move is visible at the precision printed (1 nm).
+        if offset.norm() > 1e-9 {
             notes.push(format!(
                 "re-centred on the centroid: moved by ({:.6}, {:.6}, {:.6}) mm",
                 offset.x * 1e3,
                 offset.y * 1e3,
                 offset.z * 1e3
             ));
+        }
+        if offset.norm() > 0.0 {
             mesh.translate(&offset);
         }
         let properties = MassProperties::of_mesh(&mesh)?;
@@ -149,7 +152,23 @@ impl Pellet {
                 "nonconvex (hull volume {:.2}% above the mesh's): convex pieces by V-HACD",
                 (hull_volume / properties.volume - 1.0) * 100.0
             ));
-            parry_boundary::convex_decomposition(&mesh, 64, 32)
+            let pieces = parry_boundary::convex_decomposition(&mesh, 64, 32);
+            // The hulls' summed volume bounds their union from above: say how
+            // far the pieces may overfill the mesh (V-HACD hulls bloat).
+            let summed: Real = pieces
+                .iter()
+                .filter_map(|p| match p {
+                    ConvexPiece::Hull { points } => parry_boundary::convex_hull(points).ok(),
+                    _ => None,
+                })
+                .filter_map(|h| MassProperties::of_mesh(&h).ok().map(|m| m.volume))
+                .sum();
+            notes.push(format!(
+                "{} convex pieces whose volumes sum to {:.1}% of the mesh volume (an upper bound on their union)",
+                pieces.len(),
+                100.0 * summed / properties.volume
+            ));
+            pieces
         };
         if pieces.is_empty() {
             return Err(GeomError::Meshing("convex decomposition of the mesh produced no pieces".into()));
