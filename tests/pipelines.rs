@@ -193,3 +193,82 @@ fn voidprof_then_compare_scores_a_sphere_bed_with_numbers_recomputed_from_the_cs
     let rmse = (obs.iter().zip(&pred).map(|(o, p)| (p - o).powi(2)).sum::<f64>() / obs.len() as f64).sqrt();
     assert!((mu["rmse"].as_f64().unwrap() - rmse).abs() < 1e-8, "{} vs {rmse}", mu["rmse"]);
 }
+
+const BED: &[&str] = &["--pellet", "s.pellet", "--tube-diameter", "40", "--count", "20", "--quiet"];
+
+fn bed_args<'a>(seed: &'a str, out: &'a str) -> Vec<&'a str> {
+    let mut a = BED.to_vec();
+    a.extend(["--seed", seed, "-o", out]);
+    a
+}
+
+#[test]
+fn mkpellet_pack_settle_check_settle_a_small_sphere_bed_reproducibly() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "-o", "s.pellet"]).success();
+    s.run("pack", &bed_args("1", "bed.mcap")).success().stdout_has("settled at");
+    let check = s.run("settle-check", &["bed.mcap", "-o", "bed.packing", "--json"]);
+    check.success();
+    let verdict: serde_json::Value = serde_json::from_str(&check.stdout()).unwrap();
+    assert_eq!(verdict["settled"], true);
+    assert_eq!(verdict["pellets"], 20);
+    // The archive: the expected channels, metadata and attachments.
+    let bytes = std::fs::read(s.file("bed.mcap")).unwrap();
+    let t = pellet_io::read_trajectory(&bytes, "bed.mcap").unwrap();
+    assert!(t.truncated.is_none());
+    assert_eq!(t.run["seed"], "1");
+    assert!(t.run["config"].contains("\"contact_model\":\"recommended\""), "{}", t.run["config"]);
+    assert_eq!(t.pellet_files.len(), 1);
+    assert!(!t.frames.is_empty() && !t.energy.is_empty());
+    // Every pellet inside the tube and above the floor, penetrating less than 1 % of dp.
+    let packing = pellet_io::decode_packing(&std::fs::read(s.file("bed.packing")).unwrap(), "bed").unwrap();
+    for p in &packing.bed.pellets {
+        let [x, y, z] = p.position;
+        assert!(x.hypot(y) <= 0.015 + 1e-4 && z >= 0.005 - 1e-4, "{:?}", p.position);
+    }
+    let worst = t.energy.iter().map(|e| e.max_penetration_m).fold(0.0, f64::max);
+    assert!(worst < 0.01 * 0.010, "max penetration {worst} m");
+    // The same seed gives the same bytes; another seed another bed.
+    let again = Scenario::new();
+    std::fs::copy(s.file("s.pellet"), again.file("s.pellet")).unwrap();
+    again.run("pack", &bed_args("1", "bed.mcap")).success();
+    assert!(std::fs::read(again.file("bed.mcap")).unwrap() == bytes, "same seed, different bytes");
+    again.run("pack", &bed_args("2", "other.mcap")).success();
+    let other = pellet_io::read_trajectory(&std::fs::read(again.file("other.mcap")).unwrap(), "o").unwrap();
+    assert_ne!(other.frames.last().unwrap().positions, t.frames.last().unwrap().positions);
+}
+
+#[test]
+fn an_interrupted_pack_leaves_a_readable_trajectory() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "-o", "s.pellet"]).success();
+    // SIGTERM: pack closes the archive cleanly under its final name.
+    let child = std::process::Command::new(pellet_tests::bin("pack"))
+        .args(["--pellet", "s.pellet", "--tube-diameter", "40", "--count", "500", "--quiet", "-o", "t.mcap"])
+        .current_dir(s.path())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let killed = std::process::Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap();
+    assert!(killed.success());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("interrupted at t ="), "{err}");
+    let t = pellet_io::read_trajectory(&std::fs::read(s.file("t.mcap")).unwrap(), "t.mcap").unwrap();
+    assert!(t.truncated.is_none() && !t.energy.is_empty());
+    // SIGKILL: the .part file stays, readable up to its last complete chunk.
+    let mut child = std::process::Command::new(pellet_tests::bin("pack"))
+        .args(["--pellet", "s.pellet", "--tube-diameter", "40", "--count", "500", "--quiet", "-o", "k.mcap"])
+        .current_dir(s.path())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!s.file("k.mcap").exists());
+    let part = std::fs::read(s.file("k.mcap.part")).unwrap();
+    let t = pellet_io::read_trajectory(&part, "k.mcap.part").unwrap();
+    assert_eq!(t.pellet_files.len(), 1);
+}

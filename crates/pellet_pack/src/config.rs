@@ -62,8 +62,20 @@ pub struct PackOptions {
     pub max_speed: Option<f64>,
     /// Record velocities in the pose frames.
     pub record_velocities: Option<bool>,
-    /// Static friction at resting contacts (off = the paper's model).
-    pub static_friction: Option<bool>,
+    /// Contact model.
+    pub contact_model: Option<ContactModel>,
+}
+
+/// Which contact model the engine uses (physics.md's preface and §5.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactModel {
+    /// The paper's model: dynamic Coulomb friction only (none below the slip
+    /// threshold εf), no velocity bias.
+    Paper,
+    /// physics.md's recommendation: static friction at resting contacts, the
+    /// stick clamp, and the velocity bias that removes drift at resting contacts.
+    Recommended,
 }
 
 macro_rules! overlay_fields {
@@ -111,7 +123,7 @@ impl PackOptions {
             settle_tolerance,
             max_speed,
             record_velocities,
-            static_friction
+            contact_model
         )
     }
 }
@@ -170,8 +182,8 @@ pub struct PackConfig {
     pub max_speed_m_s: f64,
     /// Whether frames carry velocities.
     pub record_velocities: bool,
-    /// Static friction at resting contacts (off: paper mode).
-    pub static_friction: bool,
+    /// The contact model.
+    pub contact_model: ContactModel,
 }
 
 fn check(flag: &str, v: f64, lo: f64, hi: f64, lo_open: bool, unit: &str) -> Result<f64, ConfigError> {
@@ -224,7 +236,10 @@ impl PackConfig {
             settle_tolerance: check("settle-tolerance", o.settle_tolerance.unwrap_or(1e-3), 0.0, 1.0, true, "")?,
             max_speed_m_s: check("max-speed", o.max_speed.unwrap_or(1e-3), 0.0, 1e3, true, " m/s")?,
             record_velocities: o.record_velocities.unwrap_or(false),
-            static_friction: o.static_friction.unwrap_or(false),
+            // Measured: in the paper's model a poured bed never settles (it
+            // keeps turning about the axis and rattling in the resting band);
+            // see the README's known limits.
+            contact_model: o.contact_model.unwrap_or(ContactModel::Recommended),
         })
     }
 }

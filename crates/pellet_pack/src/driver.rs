@@ -9,7 +9,7 @@ use pellet_io::{EnergyRecord, Frame};
 use pellet_settle::{check_settled, EnergySample, SettleCriteria, SettleReport};
 use pellet_sim::{BodyType, Container, EngineParams, Material, Pipeline, ShapeDesc, Vec3, WallMaterial, World};
 
-use crate::config::{Amount, PackConfig};
+use crate::config::{Amount, ContactModel, PackConfig};
 use crate::loading::{FeedParams, Feeder};
 
 /// Length of one engine step (s): the energy channel gets a record per
@@ -150,7 +150,7 @@ fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_sim:
         Container::tube(config.tube_diameter_m).map_err(setup)?,
         material,
         wall,
-        engine_params(config.static_friction),
+        engine_params(config.contact_model),
     )
     .map_err(setup)?;
     let type_id = world.register_type(body_type(pellet)).map_err(setup)?;
@@ -241,6 +241,7 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
         history.push(EnergySample {
             time_s: record.time_s,
             kinetic_j: record.kinetic_j(),
+            kinetic_translational_j: record.kinetic_translational_j,
             max_speed_m_s: max_speed,
             pellets: record.pellets,
         });
@@ -325,11 +326,14 @@ fn frame(world: &World, velocities: bool) -> Frame {
     }
 }
 
-/// The engine parameters of a pack run: the engine's defaults (paper mode),
-/// static friction if asked, and islands above [`EXACT_SOLVER_MAX_ROWS`]
-/// rows left to the iterative solver.
-fn engine_params(static_friction: bool) -> EngineParams {
-    EngineParams { exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS, static_friction, ..EngineParams::default() }
+/// The engine parameters of a pack run: the chosen contact model, with
+/// islands above [`EXACT_SOLVER_MAX_ROWS`] rows left to the iterative solver.
+fn engine_params(mode: ContactModel) -> EngineParams {
+    let base = match mode {
+        ContactModel::Paper => EngineParams::default(),
+        ContactModel::Recommended => EngineParams::recommended(),
+    };
+    EngineParams { exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS, ..base }
 }
 
 /// Largest island solved by Baraff's dense pivoting method in a pack run.

@@ -13,7 +13,7 @@ pub mod config;
 pub mod driver;
 pub mod loading;
 
-pub use config::{Amount, PackConfig, PackOptions};
+pub use config::{Amount, ContactModel, PackConfig, PackOptions};
 pub use driver::{check_setup, run_pack, Ending, PackError, Progress, RunSink, RunSummary};
 pub use loading::{Feeder, LoadingScheme, Spawn};
 

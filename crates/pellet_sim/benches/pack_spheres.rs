@@ -3,9 +3,13 @@
 //! Run with `cargo bench --profile dev --bench pack_spheres` (or `cargo bench`). The simulated
 //! time per case is `PELLET_BENCH_SIM_SECONDS` (default 1.0 s); a case also stops once its wall
 //! time exceeds `PELLET_BENCH_WALL_SECONDS` (default 300 s), and the table says how far it got.
-//! `PELLET_BENCH_SIZES=100,300` chooses the pellet counts.
+//! `PELLET_BENCH_SIZES=100,300` chooses the pellet counts; `PELLET_BENCH_EXACT_ROWS` the largest
+//! island solved by Baraff's method (default 64, as in physics.md §8.1);
+//! `PELLET_BENCH_SOLVER=pgs` the iterative solver (default APGD).
 
-use pellet_sim::{BodyType, Container, EngineParams, Material, Pipeline, Quat, Vec3, WallMaterial, World};
+use pellet_sim::{
+    BodyType, Container, EngineParams, IterativeSolver, Material, Pipeline, Quat, Vec3, WallMaterial, World,
+};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
@@ -34,7 +38,14 @@ fn case(n: usize, sim_seconds: f64, wall_limit: f64) -> Row {
         Container::tube(tube_d).expect("tube"),
         Material { density: 2000.0, cor: 0.5, friction: 0.3 },
         WallMaterial { cor: 0.5, friction: 0.3 },
-        EngineParams::default(),
+        EngineParams {
+            exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", 64.0) as usize,
+            iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
+                Ok("pgs") => IterativeSolver::Pgs,
+                _ => IterativeSolver::Apgd,
+            },
+            ..EngineParams::default()
+        },
     )
     .expect("world");
     let t = world.register_type(BodyType::solid_sphere(r).expect("type")).expect("register");

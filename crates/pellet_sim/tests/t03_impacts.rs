@@ -140,3 +140,73 @@ fn t9_cradle_inelastic_regression() {
     assert!((ke - 0.67204).abs() <= 1e-5, "KE ratio {ke}");
     assert_eq!(n, 10);
 }
+
+#[test]
+fn no_tunnelling_in_big_steps() {
+    // 5 m/s moves 125 mm per 1/40 s big step, far more than the 10 mm sphere: the swept broad
+    // phase must still find the floor and the other sphere.
+    let r = 0.005;
+    let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(0.5, 0.0), wall(0.5, 0.0), zero_gravity());
+    let a = add(&mut w, t, Vec3::new(0.0, 0.0, 0.2), Vec3::new(0.0, 0.0, -5.0), Vec3::zeros());
+    let b = add(&mut w, t, Vec3::new(-0.12, 0.05, 0.1), Vec3::new(5.0, 0.0, 0.0), Vec3::zeros());
+    let c = add(&mut w, t, Vec3::new(0.12, 0.05, 0.1), Vec3::new(-5.0, 0.0, 0.0), Vec3::zeros());
+    let mut p = Pipeline::new();
+    // After two big steps: the pair met at t ≈ 0.023 s, the falling sphere hit the floor at
+    // t ≈ 0.039 s, and nobody has reached the tube wall yet.
+    let pen = run(&mut w, &mut p, 1.0 / 40.0, 2);
+    assert!(vel(&w, a).z > 0.0, "sphere went through the floor");
+    assert!(pos(&w, a).z > r * 0.99);
+    assert!(vel(&w, b).x < 0.0 && vel(&w, c).x > 0.0, "spheres passed through each other");
+    // Zero gravity, head-on impacts with e = 0.5: the exact outgoing speeds are 2.5 m/s.
+    assert!((vel(&w, a).z - 2.5).abs() <= 1e-9);
+    assert!((vel(&w, b).x + 2.5).abs() <= 1e-9 && (vel(&w, c).x - 2.5).abs() <= 1e-9);
+    assert!(pen < 0.01 * 2.0 * r, "penetration {pen}");
+}
+
+#[test]
+fn final_e0_solve_after_the_pass_cap() {
+    // With one pass allowed, the cradle's momentum cannot travel ball by ball: the final e = 0
+    // solve makes balls 2..5 leave together, conserving momentum, and nothing approaches after.
+    let r = 0.005;
+    let params = EngineParams { collision_pass_cap: 1, ..zero_gravity() };
+    let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(1.0, 0.0), wall(1.0, 0.0), params);
+    let ids: Vec<_> = (0..5)
+        .map(|i| {
+            let v = if i == 0 { 1.0 } else { 0.0 };
+            add(&mut w, t, Vec3::new(-0.02 + 2.0 * r * i as f64, 0.0, 0.1), Vec3::new(v, 0.0, 0.0), Vec3::zeros())
+        })
+        .collect();
+    let mut p = Pipeline::new();
+    let rep = w.step(1e-6, &mut p).unwrap();
+    let v: Vec<f64> = ids.iter().map(|id| vel(&w, *id).x).collect();
+    eprintln!("final e=0 solve: {v:?}, final solves {}", rep.final_solves);
+    assert_eq!(rep.final_solves, 1);
+    let want = [0.0, 0.25, 0.25, 0.25, 0.25];
+    for i in 0..5 {
+        assert!((v[i] - want[i]).abs() <= 1e-12, "{v:?}");
+    }
+}
+
+#[test]
+fn rewind_and_halve_keeps_penetration_below_the_bound() {
+    // Impacts are resolved before touching, so to provoke a rewind we make a pair approach
+    // inside a (deliberately wide) resting band: nothing stops it, and a full substep would push
+    // it 1e-4 m deep. Rewind-and-halve must keep the penetration under pen_max = 1e-3 d.
+    let r = 0.005;
+    let params = EngineParams { eps_p: 0.1, dt_cap: 1e-2, max_penetration_factor: 1e-3, ..zero_gravity() };
+    let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(1.0, 0.0), wall(1.0, 0.0), params);
+    let a = add(&mut w, t, Vec3::new(-2.0 * r, 0.0, 0.1), Vec3::new(0.08, 0.0, 0.0), Vec3::zeros());
+    add(&mut w, t, Vec3::new(0.0, 0.0, 0.1), Vec3::zeros(), Vec3::zeros());
+    let mut p = Pipeline::new();
+    let (mut rewinds, mut pen) = (0, 0.0f64);
+    for _ in 0..20 {
+        let rep = w.step(1e-3, &mut p).unwrap();
+        rewinds += rep.rewinds;
+        pen = pen.max(rep.max_penetration);
+    }
+    eprintln!("rewind test: {rewinds} rewinds, max penetration {pen:.2e} m (bound {:.1e})", 1e-3 * 2.0 * r);
+    assert!(rewinds > 0);
+    assert!(pen <= 1e-3 * 2.0 * r);
+    // Resting contact with b ≥ 0: no force, the velocity is untouched.
+    assert_eq!(vel(&w, a).x, 0.08);
+}

@@ -104,7 +104,16 @@ fn pour(n: usize, seed: u64, params: EngineParams, seconds: f64) -> (World, Vec<
 
 #[test]
 fn t13b_pour_energy_never_rises_beyond_the_projection_work() {
-    let (w, log, e0) = pour(15, 7, EngineParams::default(), 0.8);
+    check_pour("paper", EngineParams::default(), 15, 0.8);
+}
+
+#[test]
+fn t13b_pour_recommended_mode() {
+    check_pour("recommended", EngineParams::recommended(), 10, 0.5);
+}
+
+fn check_pour(label: &str, params: EngineParams, n: usize, seconds: f64) {
+    let (w, log, e0) = pour(n, 7, params, seconds);
     let scale = w.bodies().iter().map(|b| b.mass * 9.81 * 0.1).sum::<f64>();
     let mut worst_rise: f64 = f64::NEG_INFINITY;
     for row in &log {
@@ -122,7 +131,7 @@ fn t13b_pour_energy_never_rises_beyond_the_projection_work() {
     let last = log.last().unwrap();
     let e = w.energy();
     eprintln!(
-        "T13b: E0 {e0:.4e} J, E {:.4e} J; removed: collisions {:.3e}, friction {:.3e}, projection {:.3e}; resting work {:.2e} (bound {:.2e}); worst rise {worst_rise:.2e} of m g h",
+        "T13b {label}: E0 {e0:.4e} J, E {:.4e} J; removed: collisions {:.3e}, friction {:.3e}, projection {:.3e}; resting work {:.2e} (bound {:.2e}); worst rise {worst_rise:.2e} of m g h",
         last.total,
         e.removed_by_collisions,
         e.removed_by_friction,
@@ -134,7 +143,7 @@ fn t13b_pour_energy_never_rises_beyond_the_projection_work() {
     // energy put in, so it is subtracted).
     let logged = e.removed_by_collisions + e.removed_by_friction + e.removed_by_projection - e.resting_normal_work;
     let gap = (e0 - e.total()) - logged;
-    eprintln!("T13b: ledger closure error {gap:.2e} J of {:.2e} J dissipated", e0 - e.total());
+    eprintln!("T13b {label}: ledger closure error {gap:.2e} J of {:.2e} J dissipated", e0 - e.total());
     assert!(gap.abs() <= 1e-3 * (e0 - e.total()));
     for b in w.bodies() {
         assert!(w.container().contains_sphere(&b.position, 0.005 - 1e-4), "a sphere left the tube");

@@ -12,7 +12,9 @@ use clap::Parser;
 
 use pellet_cli::Outcome;
 use pellet_io::{EnergyRecord, Frame, Provenance, TrajectoryHeader, TrajectoryWriter};
-use pellet_pack::{check_setup, run_pack, Ending, LoadingScheme, PackConfig, PackOptions, Progress, RunSink};
+use pellet_pack::{
+    check_setup, run_pack, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions, Progress, RunSink,
+};
 
 const EXAMPLES: &str = "\
 Examples:
@@ -92,9 +94,10 @@ pub struct Args {
     /// Record pellet velocities in the pose frames.
     #[arg(long)]
     record_velocities: bool,
-    /// Static friction at resting contacts (off: the paper's model, dynamic friction only).
-    #[arg(long)]
-    static_friction: bool,
+    /// Contact model: `recommended` (static friction at resting contacts, stick
+    /// clamp, velocity bias; settles beds) or `paper` (dynamic friction only) [default: recommended].
+    #[arg(long, value_enum)]
+    contact_model: Option<ModelArg>,
     /// Simulated time limit (s) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
@@ -110,6 +113,15 @@ pub struct Args {
     /// No progress output.
     #[arg(short, long)]
     quiet: bool,
+}
+
+/// Contact models, as spelled on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum ModelArg {
+    /// The paper's model: dynamic Coulomb friction only, no velocity bias.
+    Paper,
+    /// Static friction at resting contacts, stick clamp, velocity bias (physics.md).
+    Recommended,
 }
 
 /// Loading schemes, as spelled on the command line.
@@ -165,7 +177,10 @@ impl Args {
             settle_tolerance: self.settle_tolerance,
             max_speed: self.max_speed,
             record_velocities: self.record_velocities.then_some(true),
-            static_friction: self.static_friction.then_some(true),
+            contact_model: self.contact_model.map(|m| match m {
+                ModelArg::Paper => ContactModel::Paper,
+                ModelArg::Recommended => ContactModel::Recommended,
+            }),
         }
     }
 }

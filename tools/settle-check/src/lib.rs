@@ -26,7 +26,7 @@ Exit codes: 0 settled, 1 not settled, 2 error.";
 ///
 /// The bed is settled at the first time t where, over the window [t − w, t],
 /// no pellet was added, the kinetic energy varied by at most the tolerance
-/// (relative), the kinetic energy is below a bound and no pellet moves faster
+/// (relative), the translational kinetic energy is below a bound and no pellet moves faster
 /// than a speed bound. A truncated trajectory (a killed run) is read up to its
 /// last complete chunk.
 #[derive(Debug, Parser)]
@@ -53,7 +53,7 @@ pub struct Args {
     /// Allowed variation of the kinetic energy over the window (fraction of its maximum).
     #[arg(long, default_value_t = 1e-3, value_name = "FRACTION")]
     settle_tolerance: f64,
-    /// Bound on the total kinetic energy (J) [default: 1e-7·N·m·g·dpv of the run's pellets].
+    /// Bound on the translational kinetic energy (J) [default: 1e-7·N·m·g·dpv of the run's pellets].
     #[arg(long, value_name = "J")]
     ke_bound: Option<f64>,
     /// Bound on the fastest pellet's speed (m/s).
@@ -82,6 +82,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         .map(|e| EnergySample {
             time_s: e.time_s,
             kinetic_j: e.kinetic_j(),
+            kinetic_translational_j: e.kinetic_translational_j,
             max_speed_m_s: e.max_speed_m_s,
             pellets: e.pellets,
         })

@@ -127,6 +127,13 @@ impl World {
         &self.params
     }
 
+    /// Replaces the parameters (e.g. to switch modes between steps); validated first.
+    pub fn set_params(&mut self, params: EngineParams) -> Result<(), SimError> {
+        params.validate()?;
+        self.params = params;
+        Ok(())
+    }
+
     /// Simulated time, s.
     pub fn time(&self) -> Real {
         self.time

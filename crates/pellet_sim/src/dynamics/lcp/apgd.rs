@@ -50,18 +50,25 @@ impl LcpSolver for Apgd {
         let mut theta: Real = 1.0;
         let mut xn = vec![0.0; n];
         let mut axn = vec![0.0; n];
+        let mut g = vec![0.0; n];
         let mut it = 0;
         while it < self.max_iterations {
             it += 1;
-            let g: Vec<Real> = ay.iter().zip(b).map(|(v, bi)| v + bi).collect();
+            for i in 0..n {
+                g[i] = ay[i] + b[i];
+            }
             let qy = q(&y, &ay);
             loop {
+                // Projected gradient step and the sufficient-decrease test, fused.
+                let (mut gd, mut dd) = (0.0, 0.0);
                 for i in 0..n {
                     xn[i] = (y[i] - g[i] / l).max(0.0);
+                    let d = xn[i] - y[i];
+                    gd += g[i] * d;
+                    dd += d * d;
                 }
                 a.mul(&xn, &mut axn);
-                let d: Vec<Real> = xn.iter().zip(&y).map(|(p, v)| p - v).collect();
-                if q(&xn, &axn) <= qy + dot(&g, &d) + 0.5 * l * dot(&d, &d) + 1e-14 * qy.abs() || l > 1e300 {
+                if q(&xn, &axn) <= qy + gd + 0.5 * l * dd + 1e-14 * qy.abs() || l > 1e300 {
                     break;
                 }
                 l *= 2.0;
@@ -77,12 +84,18 @@ impl LcpSolver for Apgd {
             if r_best <= tol {
                 break;
             }
-            let restart = dot(&g, &xn.iter().zip(&x).map(|(p, v)| p - v).collect::<Vec<_>>()) > 0.0;
-            for i in 0..n {
-                y[i] = if restart { xn[i] } else { xn[i] + beta * (xn[i] - x[i]) };
-                ay[i] = if restart { axn[i] } else { axn[i] + beta * (axn[i] - ax[i]) };
+            let restart = (0..n).map(|i| g[i] * (xn[i] - x[i])).sum::<Real>() > 0.0;
+            if restart {
+                y.copy_from_slice(&xn);
+                ay.copy_from_slice(&axn);
+                theta = 1.0;
+            } else {
+                for i in 0..n {
+                    y[i] = xn[i] + beta * (xn[i] - x[i]);
+                    ay[i] = axn[i] + beta * (axn[i] - ax[i]);
+                }
+                theta = theta_n;
             }
-            theta = if restart { 1.0 } else { theta_n };
             x.copy_from_slice(&xn);
             ax.copy_from_slice(&axn);
             l *= 0.9;
