@@ -272,3 +272,20 @@ fn an_interrupted_pack_leaves_a_readable_trajectory() {
     let t = pellet_io::read_trajectory(&part, "k.mcap.part").unwrap();
     assert_eq!(t.pellet_files.len(), 1);
 }
+
+#[test]
+fn pack_fills_to_a_height() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "-o", "s.pellet"]).success();
+    s.run("pack", &["--pellet", "s.pellet", "--tube-diameter", "40", "--fill-height", "18", "--quiet", "-o", "f.mcap"])
+        .success();
+    s.run("settle-check", &["f.mcap", "--csv", "f.csv"]).success();
+    let csv = std::fs::read_to_string(s.file("f.csv")).unwrap();
+    let tops: Vec<f64> =
+        csv.lines().skip(1).map(|l| l.split(',').nth(3).unwrap().parse::<f64>().unwrap() + 5.0).collect();
+    let top = tops.iter().copied().fold(0.0, f64::max);
+    // Feeding stops once resting pellets reach 18 mm; those still falling then
+    // land on top, so the surface ends at most about one diameter higher.
+    assert!((18.0..=18.0 + 12.0).contains(&top), "bed top {top} mm with {} pellets", tops.len());
+    assert!(tops.len() >= 4, "{} pellets", tops.len());
+}

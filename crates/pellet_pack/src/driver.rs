@@ -16,9 +16,12 @@ use crate::loading::{FeedParams, Feeder};
 /// step, so this is also its time resolution. The engine sub-steps inside.
 pub const STEP_S: f64 = 0.005;
 
-/// A pellet slower than this (m/s) counts as part of the bed when its top
-/// is taken as the bed surface.
+/// A pellet slower than this (m/s) for at least [`RESTING_TIME`] counts as
+/// part of the bed when the bed surface is measured. The time keeps a pellet
+/// just released, or at the top of a bounce, out of it.
 const RESTING_SPEED: f64 = 0.05;
+/// See [`RESTING_SPEED`] (s).
+const RESTING_TIME: f64 = 0.05;
 
 /// Where the run's output goes.
 pub trait RunSink {
@@ -188,9 +191,11 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
     let mut max_penetration: f64 = 0.0;
     let mut substeps = 0u64;
     let mut settle = check_settled(&[], &criteria(config, 0, mass, dp));
+    // Since when each pellet has been slower than RESTING_SPEED.
+    let mut slow_since: Vec<Option<f64>> = Vec::new();
     let ending = loop {
         let t = world.time();
-        let top = bed_top(&world);
+        let top = bed_top(&world, &slow_since);
         // Feed: one pellet at a time, once the entry point is clear.
         if feeding {
             let full = match config.amount {
@@ -220,6 +225,10 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
         substeps += report.substeps as u64;
         let ledger = world.energy();
         let max_speed = world.bodies().iter().map(|b| b.velocity().norm()).fold(0.0, f64::max);
+        slow_since.resize(world.bodies().len(), None);
+        for (since, body) in slow_since.iter_mut().zip(world.bodies()) {
+            *since = if body.velocity().norm() < RESTING_SPEED { since.or(Some(world.time())) } else { None };
+        }
         let record = EnergyRecord {
             time_s: world.time(),
             pellets: world.bodies().len() as u32,
@@ -286,13 +295,16 @@ fn criteria(config: &PackConfig, pellets: u32, mass: f64, dp: f64) -> SettleCrit
     c
 }
 
-/// The bed surface: the highest top of a slow pellet, or the floor.
-fn bed_top(world: &World) -> f64 {
+/// The bed surface: the highest top of a pellet that has been slow for a
+/// while, or the floor.
+fn bed_top(world: &World, slow_since: &[Option<f64>]) -> f64 {
+    let settled_before = world.time() - RESTING_TIME;
     world
         .bodies()
         .iter()
-        .filter(|b| b.velocity().norm() < RESTING_SPEED)
-        .map(|b| b.position.z + b.bounding_radius)
+        .zip(slow_since)
+        .filter(|(_, since)| since.is_some_and(|t| t <= settled_before))
+        .map(|(b, _)| b.position.z + b.bounding_radius)
         .fold(0.0, f64::max)
 }
 
