@@ -76,6 +76,7 @@
 #![deny(missing_docs)]
 
 mod atomic;
+pub mod foxglove;
 mod framed;
 mod mesh_files;
 mod packing_file;

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use pellet_geom::Tube;
 
+use crate::foxglove::{self, ViewerShape};
 use crate::pellet_file::Provenance;
 use crate::IoError;
 
@@ -133,6 +134,18 @@ pub struct TrajectoryWriter {
     poses_sequence: u32,
     energy_sequence: u32,
     buf: Vec<u8>,
+    viewer: Option<Viewer>,
+}
+
+/// State of the optional Foxglove viewer channels (see [`crate::foxglove`]).
+struct Viewer {
+    scene_channel: u16,
+    transforms_channel: u16,
+    shapes: Vec<ViewerShape>,
+    /// Pellets whose entity has been written.
+    announced: usize,
+    scene_sequence: u32,
+    transforms_sequence: u32,
 }
 
 /// Simulated seconds → MCAP log time (ns).
@@ -204,7 +217,64 @@ impl TrajectoryWriter {
             poses_sequence: 0,
             energy_sequence: 0,
             buf: Vec::with_capacity(1 << 16),
+            viewer: None,
         })
+    }
+
+    /// Adds the Foxglove viewer channels: the tube now (drawn up to
+    /// `tube_height_m`), each pellet's entity (`shapes` by type index) when it
+    /// first appears in a frame, and every frame's transforms.
+    pub fn enable_viewer(&mut self, tube: &Tube, tube_height_m: f64, shapes: Vec<ViewerShape>) -> Result<(), IoError> {
+        let err = mcap_error(&self.part_path);
+        let writer = self.writer.as_mut().ok_or_else(|| err(mcap::McapError::UnexpectedEof))?;
+        let none = BTreeMap::new();
+        let schema = |w: &mut mcap::Writer<BufWriter<File>>, name: &str, body: serde_json::Value| {
+            w.add_schema(name, foxglove::VIEWER_SCHEMA_ENCODING, body.to_string().as_bytes()).map_err(&err)
+        };
+        let scene_schema = schema(writer, foxglove::SCENE_SCHEMA, foxglove::scene_schema())?;
+        let transforms_schema = schema(writer, foxglove::TRANSFORMS_SCHEMA, foxglove::transforms_schema())?;
+        let encoding = foxglove::VIEWER_MESSAGE_ENCODING;
+        let scene_channel = writer.add_channel(scene_schema, foxglove::SCENE_TOPIC, encoding, &none).map_err(&err)?;
+        let transforms_channel =
+            writer.add_channel(transforms_schema, foxglove::TRANSFORMS_TOPIC, encoding, &none).map_err(&err)?;
+        self.viewer = Some(Viewer {
+            scene_channel,
+            transforms_channel,
+            shapes,
+            announced: 0,
+            scene_sequence: 1,
+            transforms_sequence: 0,
+        });
+        self.buf = foxglove::scene_update(vec![foxglove::tube_entity(tube, tube_height_m)]).to_string().into_bytes();
+        self.write(scene_channel, 1, 0.0)
+    }
+
+    /// The viewer messages that go with `frame`: entities of new pellets, then transforms.
+    fn write_viewer(&mut self, frame: &Frame) -> Result<(), IoError> {
+        let Some(v) = self.viewer.as_mut() else { return Ok(()) };
+        let (scene, transforms) = (v.scene_channel, v.transforms_channel);
+        let mut scene_sequence = None;
+        if frame.positions.len() > v.announced {
+            let mut entities = Vec::new();
+            for i in v.announced..frame.positions.len() {
+                let t = frame.type_index.get(i).copied().unwrap_or(0) as usize;
+                if let Some(shape) = v.shapes.get(t).or(v.shapes.first()) {
+                    entities.push(foxglove::pellet_entity(frame.time_s, i, shape));
+                }
+            }
+            v.announced = frame.positions.len();
+            v.scene_sequence += 1;
+            scene_sequence = Some(v.scene_sequence);
+            self.buf = foxglove::scene_update(entities).to_string().into_bytes();
+        }
+        if let Some(seq) = scene_sequence {
+            self.write(scene, seq, frame.time_s)?;
+        }
+        let v = self.viewer.as_mut().expect("viewer checked above");
+        v.transforms_sequence += 1;
+        let seq = v.transforms_sequence;
+        self.buf = foxglove::frame_transforms(frame).to_string().into_bytes();
+        self.write(transforms, seq, frame.time_s)
     }
 
     fn write(&mut self, channel: u16, sequence: u32, time_s: f64) -> Result<(), IoError> {
@@ -223,7 +293,8 @@ impl TrajectoryWriter {
     pub fn write_frame(&mut self, frame: &Frame) -> Result<(), IoError> {
         encode(frame, &mut self.buf)?;
         self.poses_sequence += 1;
-        self.write(self.poses_channel, self.poses_sequence, frame.time_s)
+        self.write(self.poses_channel, self.poses_sequence, frame.time_s)?;
+        self.write_viewer(frame)
     }
 
     /// Appends an energy record.

@@ -64,6 +64,8 @@ pub struct PackOptions {
     pub record_velocities: Option<bool>,
     /// Contact model.
     pub contact_model: Option<ContactModel>,
+    /// Also write the Foxglove viewer channels.
+    pub foxglove: Option<bool>,
 }
 
 /// Which contact model the engine uses (physics.md's preface and §5.4).
@@ -123,7 +125,8 @@ impl PackOptions {
             settle_tolerance,
             max_speed,
             record_velocities,
-            contact_model
+            contact_model,
+            foxglove
         )
     }
 }
@@ -184,6 +187,8 @@ pub struct PackConfig {
     pub record_velocities: bool,
     /// The contact model.
     pub contact_model: ContactModel,
+    /// Whether the trajectory carries the Foxglove viewer channels.
+    pub foxglove: bool,
 }
 
 fn check(flag: &str, v: f64, lo: f64, hi: f64, lo_open: bool, unit: &str) -> Result<f64, ConfigError> {
@@ -236,6 +241,7 @@ impl PackConfig {
             settle_tolerance: check("settle-tolerance", o.settle_tolerance.unwrap_or(1e-3), 0.0, 1.0, true, "")?,
             max_speed_m_s: check("max-speed", o.max_speed.unwrap_or(1e-3), 0.0, 1e3, true, " m/s")?,
             record_velocities: o.record_velocities.unwrap_or(false),
+            foxglove: o.foxglove.unwrap_or(false),
             // Measured: in the paper's model a poured bed never settles (it
             // keeps turning about the axis and rattling in the resting band);
             // see the README's known limits.

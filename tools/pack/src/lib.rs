@@ -11,9 +11,10 @@ use anyhow::{bail, Context};
 use clap::Parser;
 
 use pellet_cli::Outcome;
+use pellet_io::foxglove::ViewerShape;
 use pellet_io::{EnergyRecord, Frame, Provenance, TrajectoryHeader, TrajectoryWriter};
 use pellet_pack::{
-    check_setup, run_pack, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions, Progress, RunSink,
+    check_setup, run_pack, Amount, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions, Progress, RunSink,
 };
 
 const EXAMPLES: &str = "\
@@ -94,6 +95,10 @@ pub struct Args {
     /// Record pellet velocities in the pose frames.
     #[arg(long)]
     record_velocities: bool,
+    /// Also write Foxglove viewer channels (/foxglove/scene, /foxglove/transforms) to
+    /// replay the run in Foxglove or Lichtblick's 3D panel (about 60 bytes per pellet per frame, compressed).
+    #[arg(long)]
+    foxglove: bool,
     /// Contact model: `recommended` (static friction at resting contacts, stick
     /// clamp, velocity bias; settles beds) or `paper` (dynamic friction only) [default: recommended].
     #[arg(long, value_enum)]
@@ -177,6 +182,7 @@ impl Args {
             settle_tolerance: self.settle_tolerance,
             max_speed: self.max_speed,
             record_velocities: self.record_velocities.then_some(true),
+            foxglove: self.foxglove.then_some(true),
             contact_model: self.contact_model.map(|m| match m {
                 ModelArg::Paper => ContactModel::Paper,
                 ModelArg::Recommended => ContactModel::Recommended,
@@ -224,7 +230,10 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     };
     // Check everything the engine checks before creating the output.
     check_setup(&config, &pellet)?;
-    let writer = TrajectoryWriter::create(Path::new(&output), &header)?;
+    let mut writer = TrajectoryWriter::create(Path::new(&output), &header)?;
+    if config.foxglove {
+        writer.enable_viewer(&tube, viewer_tube_height(&config, &pellet), vec![ViewerShape::of(&pellet)])?;
+    }
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
@@ -272,6 +281,17 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             bail!("interrupted at t = {:.3} s; the trajectory so far is in {output}", summary.time_s)
         }
     }
+}
+
+/// How tall to draw the tube in the viewer (m): the fill height or the height of
+/// the bed at a loose porosity of 0.5, plus the drop height.
+fn viewer_tube_height(config: &PackConfig, pellet: &pellet_geom::Pellet) -> f64 {
+    let area = std::f64::consts::PI * config.tube_diameter_m.powi(2) / 4.0;
+    let bed = match config.amount {
+        Amount::Count(n) => f64::from(n) * pellet.properties.volume / (0.5 * area),
+        Amount::FillHeight(h) => h,
+    };
+    bed + config.drop_height_m + pellet.bounding_radius
 }
 
 /// Writes frames and energy records to the MCAP file and shows progress.

@@ -119,3 +119,58 @@ fn bad_input_is_a_one_line_error_and_never_clobbers_the_output() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("corr"));
     assert!(!dir.path().join("x.mcap").exists());
 }
+
+#[test]
+fn foxglove_channels_place_every_pellet_of_every_frame() {
+    let dir = setup();
+    let mut a: Vec<&str> = SHORT.to_vec();
+    a.extend(["--seed", "2", "--foxglove", "-o", "v.mcap"]);
+    let out = pack(dir.path(), &a);
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    let bytes = std::fs::read(dir.path().join("v.mcap")).unwrap();
+    // The packbed reader still sees its own channels.
+    let t = pellet_io::read_trajectory(&bytes, "v.mcap").unwrap();
+    // Read the viewer channels with the mcap crate alone, as a viewer would.
+    let mut entities: Vec<String> = Vec::new();
+    let mut transforms = Vec::new();
+    for message in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = message.unwrap();
+        let schema = m.channel.schema.as_ref().unwrap();
+        let json: serde_json::Value = match m.channel.topic.as_str() {
+            "/foxglove/scene" | "/foxglove/transforms" => {
+                assert_eq!(m.channel.message_encoding, "json");
+                assert_eq!(schema.encoding, "jsonschema");
+                serde_json::from_slice(&m.data).unwrap()
+            }
+            _ => continue,
+        };
+        if m.channel.topic == "/foxglove/scene" {
+            assert_eq!(schema.name, "foxglove.SceneUpdate");
+            for e in json["entities"].as_array().unwrap() {
+                // Entities are announced no later than their first transform.
+                assert!(transforms.len() <= t.frames.len());
+                entities.push(e["id"].as_str().unwrap().to_string());
+            }
+        } else {
+            assert_eq!(schema.name, "foxglove.FrameTransforms");
+            let list = json["transforms"].as_array().unwrap().clone();
+            for tf in &list {
+                let child = tf["child_frame_id"].as_str().unwrap();
+                assert!(entities.iter().any(|e| e == child), "{child} placed before it was drawn");
+            }
+            transforms.push((m.log_time, list));
+        }
+    }
+    assert_eq!(entities[0], "tube");
+    assert_eq!(entities.len(), 1 + 4, "tube and 4 pellets: {entities:?}");
+    assert_eq!(transforms.len(), t.frames.len(), "one transform message per pose frame");
+    for ((log_time, list), frame) in transforms.iter().zip(&t.frames) {
+        assert_eq!(*log_time, (frame.time_s * 1e9).round() as u64);
+        assert_eq!(list.len(), frame.positions.len());
+        for (tf, (p, q)) in list.iter().zip(frame.positions.iter().zip(&frame.orientations)) {
+            assert_eq!(tf["translation"]["z"].as_f64().unwrap(), p[2]);
+            assert_eq!(tf["rotation"]["w"].as_f64().unwrap(), q[0]);
+            assert_eq!(tf["rotation"]["x"].as_f64().unwrap(), q[1]);
+        }
+    }
+}
