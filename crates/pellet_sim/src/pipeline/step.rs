@@ -95,6 +95,9 @@ pub struct StepReport {
     pub max_penetration_after_projection: Real,
     /// Energies at the end and dissipation during this step.
     pub energy: EnergyLedger,
+    /// Wall-clock seconds spent in (narrow phase, collision phase, resting phase, projection),
+    /// rewound substeps included. For profiling only; never feeds back into the physics.
+    pub wall_seconds: [Real; 4],
 }
 
 struct Proximity {
@@ -244,7 +247,9 @@ impl World {
         let mut rewinds = 0;
         loop {
             // Generate contacts a little ahead: up to the distance a pair can close in dt.
+            let clock = std::time::Instant::now();
             let contacts = self.narrow_phase(prox, delta_c + prox.v_max * dt)?;
+            report.wall_seconds[0] += clock.elapsed().as_secs_f64();
             let (cor, mu): (Vec<Real>, Vec<Real>) = contacts
                 .iter()
                 .map(|c| match c.b {
@@ -252,10 +257,14 @@ impl World {
                     Counterpart::Wall(_) => (self.wall_material.cor, self.wall_material.friction),
                 })
                 .unzip();
+            let clock = std::time::Instant::now();
             let coll = collision_phase(&mut self.bodies, &contacts, &cor, &mu, &self.params, dt, delta_c);
+            report.wall_seconds[1] += clock.elapsed().as_secs_f64();
+            let clock = std::time::Instant::now();
             let warm = &pipeline.warm;
             let warm_fn = |k: &ContactKey| warm.binary_search_by(|e| e.0.cmp(k)).map_or(0.0, |i| warm[i].1);
             let (forces, rest) = resting_phase(&self.bodies, &contacts, &mu, &self.params, dt, delta_c, &warm_fn);
+            report.wall_seconds[2] += clock.elapsed().as_secs_f64();
             let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity(c, &self.bodies)).collect();
             let g = self.params.gravity;
             let max_rot = self.params.max_rotation_per_substep;
@@ -277,7 +286,9 @@ impl World {
             let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
             let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
             let mut bodies = std::mem::take(&mut self.bodies);
+            let clock = std::time::Instant::now();
             let proj = project_positions(&mut bodies, &contacts, &eval, slop, 0.01 * d, &g);
+            report.wall_seconds[3] += clock.elapsed().as_secs_f64();
             self.bodies = bodies;
             if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
                 self.bodies.clone_from(&pipeline.saved);
