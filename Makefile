@@ -29,6 +29,7 @@ test: lint doc
 # 600-sphere bed. PELLET_BENCH_SIZES / _SIM_SECONDS / _WALL_SECONDS tune the first.
 bench:
 	PELLET_BENCH_EXACT_ROWS=$${PELLET_BENCH_EXACT_ROWS:-16} $(CARGO) bench -p pellet_sim --bench pack_spheres
+	$(CARGO) bench -p pellet_sim --bench pack_cylinders
 	$(CARGO) run --release -p pellet_analysis --example bench_voidprof
 
 clean:

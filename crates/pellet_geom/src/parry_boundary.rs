@@ -8,7 +8,7 @@ use parry3d_f64::math::{Pose, Vector as PVector};
 use parry3d_f64::shape::SharedShape;
 use parry3d_f64::transformation::vhacd::{VHACDParameters, VHACD};
 
-use crate::math::Point;
+use crate::math::{Point, Real};
 use crate::mesh::TriMesh;
 use crate::pieces::ConvexPiece;
 use crate::GeomError;
@@ -85,4 +85,51 @@ pub fn convex_decomposition(mesh: &TriMesh, resolution: u32, max_hulls: u32) -> 
         .filter(|(v, _)| v.len() >= 4)
         .map(|(v, _)| ConvexPiece::Hull { points: v.iter().map(from_parry).collect() })
         .collect()
+}
+
+/// Signed distance to a closed outward mesh sampled on a regular grid (body frame): node
+/// spacing `cell`, box = the mesh's bounding box grown by `margin` on every side. Distances
+/// come from parry's point projection on the triangle mesh; the sign from its pseudo-normals
+/// (negative inside). Returns (origin, nodes per axis, values with x fastest).
+pub fn signed_distance_grid(
+    mesh: &TriMesh,
+    cell: Real,
+    margin: Real,
+) -> Result<(Point, [usize; 3], Vec<f32>), GeomError> {
+    use parry3d_f64::query::PointQuery;
+    use parry3d_f64::shape::{TriMesh as PTriMesh, TriMeshFlags};
+    if !(cell > 0.0 && margin > 0.0) {
+        return Err(GeomError::BadParameter(format!("sdf grid: cell {cell} and margin {margin} must be > 0")));
+    }
+    let pts: Vec<PVector> = mesh.vertices.iter().map(to_parry).collect();
+    let tri = PTriMesh::with_flags(pts, mesh.triangles.clone(), TriMeshFlags::ORIENTED)
+        .map_err(|e| GeomError::Meshing(format!("sdf grid: {e:?}")))?;
+    let mut lo = Point::new(Real::INFINITY, Real::INFINITY, Real::INFINITY);
+    let mut hi = -lo;
+    for v in &mesh.vertices {
+        for a in 0..3 {
+            lo[a] = lo[a].min(v[a]);
+            hi[a] = hi[a].max(v[a]);
+        }
+    }
+    let mut dims = [0usize; 3];
+    for a in 0..3 {
+        lo[a] -= margin;
+        dims[a] = ((hi[a] + margin - lo[a]) / cell).ceil() as usize + 1;
+    }
+    if dims.iter().product::<usize>() > 50_000_000 {
+        return Err(GeomError::BadParameter(format!("sdf grid of {dims:?} nodes is too large; use a larger cell")));
+    }
+    let mut values = Vec::with_capacity(dims.iter().product());
+    for k in 0..dims[2] {
+        for j in 0..dims[1] {
+            for i in 0..dims[0] {
+                let p = PVector::new(lo.x + cell * i as Real, lo.y + cell * j as Real, lo.z + cell * k as Real);
+                let proj = tri.project_local_point(p, false);
+                let d = (p - proj.point).length();
+                values.push(if proj.is_inside { -d } else { d } as f32);
+            }
+        }
+    }
+    Ok((lo, dims, values))
 }

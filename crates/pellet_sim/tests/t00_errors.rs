@@ -24,12 +24,16 @@ fn tube_narrower_than_pellet_is_an_error() {
 }
 
 #[test]
-fn unsupported_shapes_are_errors_not_panics() {
+fn bad_shapes_are_errors_not_panics() {
     let mut w = world(0.1);
+    let grid =
+        pellet_sim::SdfGrid { origin: Vec3::zeros(), cell: 1e-3, dims: [2, 2, 2], values: vec![0.0; 7], margin: 1e-3 };
     let shapes = [
-        ShapeDesc::Cylinder { radius: 0.005, half_height: 0.005 },
-        ShapeDesc::HollowCylinder { inner_radius: 0.003, outer_radius: 0.005, half_height: 0.005 },
-        ShapeDesc::Mesh { name: "trilobe".into() },
+        ShapeDesc::Cylinder { radius: 0.0, half_height: 0.005 },
+        ShapeDesc::Cylinder { radius: 0.005, half_height: f64::NAN },
+        ShapeDesc::HollowCylinder { inner_radius: 0.005, outer_radius: 0.003, half_height: 0.005 },
+        ShapeDesc::Mesh { name: "no samples".into(), samples: vec![], grid: grid.clone() },
+        ShapeDesc::Mesh { name: "short grid".into(), samples: vec![Vec3::x() * 1e-3], grid },
     ];
     for shape in shapes {
         let ty = BodyType {
@@ -38,8 +42,37 @@ fn unsupported_shapes_are_errors_not_panics() {
             inertia_per_density_m5: Mat3::identity() * 1e-12,
             bounding_radius_m: 0.008,
         };
-        assert!(matches!(w.register_type(ty), Err(SimError::UnsupportedShape(_))));
+        assert!(w.register_type(ty).is_err());
     }
+    // A bounding radius that does not hold the cylinder is refused (the culling trusts it).
+    let mut ty = BodyType::solid_cylinder(0.005, 0.005).unwrap();
+    ty.bounding_radius_m = 0.006;
+    assert!(w.register_type(ty).is_err());
+    // A cylinder fits a tube just wider than its diameter (axis along the tube).
+    let mut narrow = world(0.0101);
+    assert!(narrow.register_type(BodyType::solid_cylinder(0.005, 0.005).unwrap()).is_ok());
+    let mut too_narrow = world(0.0099);
+    assert!(matches!(
+        too_narrow.register_type(BodyType::solid_cylinder(0.005, 0.005).unwrap()),
+        Err(SimError::ContainerTooSmall { .. })
+    ));
+}
+
+#[test]
+fn cylinder_placement_uses_the_exact_shape() {
+    let mut w = world(0.05);
+    let t = w.register_type(BodyType::solid_cylinder(0.005, 0.005).unwrap()).unwrap();
+    let (q, z) = (Quat::identity(), Vec3::zeros());
+    // Standing on the floor: inside, although the bounding sphere (7.07 mm) pokes through.
+    assert!(w.add_body(t, Vec3::new(0.0, 0.0, 0.005), q, z, z).is_ok());
+    assert!(w.add_body(t, Vec3::new(0.0, 0.0, 0.0049), q, z, z).is_err());
+    // Tilted 45°: the lowest rim point is 7.07 mm below the centre.
+    let tilt = Quat::from_axis_angle(&Vec3::x_axis(), std::f64::consts::FRAC_PI_4);
+    assert!(w.add_body(t, Vec3::new(0.0, 0.0, 0.0070), tilt, z, z).is_err());
+    assert!(w.add_body(t, Vec3::new(0.0, 0.0, 0.0071), tilt, z, z).is_ok());
+    // Against the tube wall (radius 25 mm): the rim reaches 5 mm out.
+    assert!(w.add_body(t, Vec3::new(0.0199, 0.0, 0.05), q, z, z).is_ok());
+    assert!(w.add_body(t, Vec3::new(0.0201, 0.0, 0.05), q, z, z).is_err());
 }
 
 #[test]

@@ -8,7 +8,7 @@ use super::islands::build_islands;
 use super::lcp::{solve_auto, DenseLcp, LcpMatrix, LcpStatus};
 use super::rows::{relative_velocity, Row, RowSystem};
 use crate::body::Body;
-use crate::geometry::contact::{Contact, ContactKey, GapKinematics};
+use crate::geometry::contact::{Contact, ContactKey, GapKinematics, NormalOwner};
 use crate::math::{Real, Vec3};
 use crate::params::{EngineParams, FrictionClamp, IterativeSolver};
 
@@ -73,6 +73,31 @@ fn normal_rhs(c: &Contact, bodies: &[Body], g: &Vec3) -> Real {
             let e = -c.normal;
             let vperp = vh - e * e.dot(&vh);
             c.normal.dot(g) - vperp.norm_squared() / rho.max(1e-300)
+        }
+        GapKinematics::Point { owner } => {
+            let acc_a = free_point_accel(a, &c.lever_a, g);
+            let vel_a = a.velocity() + a.angular_velocity().cross(&c.lever_a);
+            let (acc_b, vel_b, w_b) = match c.b_body() {
+                Some(bi) => {
+                    let b = &bodies[bi];
+                    let w = b.angular_velocity();
+                    (free_point_accel(b, &c.lever_b, g), b.velocity() + w.cross(&c.lever_b), w)
+                }
+                None => (Vec3::zeros(), Vec3::zeros(), Vec3::zeros()),
+            };
+            let n_dot = match owner {
+                NormalOwner::A => a.angular_velocity().cross(&c.normal),
+                NormalOwner::B => w_b.cross(&c.normal),
+                NormalOwner::Fixed => Vec3::zeros(),
+            };
+            c.normal.dot(&(acc_a - acc_b)) + 2.0 * n_dot.dot(&(vel_a - vel_b))
+        }
+        GapKinematics::PointTube { rho } => {
+            let vel = a.velocity() + a.angular_velocity().cross(&c.lever_a);
+            let vh = Vec3::new(vel.x, vel.y, 0.0);
+            let e = -c.normal;
+            let vperp = vh - e * e.dot(&vh);
+            c.normal.dot(&free_point_accel(a, &c.lever_a, g)) - vperp.norm_squared() / rho.max(1e-300)
         }
         GapKinematics::SphereSphere { distance } => {
             let b = &bodies[c.b_body().expect("sphere pair has two bodies")];

@@ -27,6 +27,31 @@ pub enum GapKinematics {
         /// The centre's distance from the axis, m.
         rho: Real,
     },
+    /// A body-fixed point on a face whose normal is fixed in `owner`: the vertex–face form of
+    /// physics.md §4.2, b = n·(ā_A(r_A) − ā_B(r_B)) + 2 ṅ·(ṗ_A − ṗ_B) with ṅ = ω_owner × n.
+    /// For points on curved faces (lateral surfaces) this leaves out the O(|u_t|²/ρ) curvature
+    /// term, as §4.2 allows; post-stabilisation removes what is left.
+    Point {
+        /// The body the normal is attached to.
+        owner: NormalOwner,
+    },
+    /// A body-fixed point of A against the tube wall: b = n·ā_A(r_A) − |ṗ_⊥|²/ρ, exact for a
+    /// point moving on the (concave) cylinder wall.
+    PointTube {
+        /// The point's distance from the axis, m.
+        rho: Real,
+    },
+}
+
+/// Which body carries a contact normal (its time derivative is ω_owner × n).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NormalOwner {
+    /// Body A.
+    A,
+    /// Body B.
+    B,
+    /// A static wall (ṅ = 0).
+    Fixed,
 }
 
 /// Persistent identity of a contact point, for warm starting (physics.md §6.6).

@@ -2,6 +2,10 @@
 
 pub mod broad_phase;
 pub mod contact;
+pub mod contact_sampled;
+pub mod contact_shape_wall;
 pub mod contact_sphere_sphere;
 pub mod contact_sphere_wall;
 pub mod narrow_phase;
+pub mod samples;
+pub mod sdf;

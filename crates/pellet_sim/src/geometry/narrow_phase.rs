@@ -1,11 +1,17 @@
-//! The contact-generation interface: dispatch over shape kinds.
+//! The contact-generation interface: dispatch over shape kinds (physics.md §6.2).
 //!
-//! A later issue adds cylinders, hollow cylinders and meshes by filling the match arms below;
-//! the rest of the engine only sees [`Contact`] records.
+//! Sphere pairs and sphere–wall contacts are closed form; a sphere against any other shape puts
+//! its centre into that shape's SDF; every other pair is sampled both ways against the SDFs
+//! (closed form for cylinders and rings, a sampled grid for meshes); cylinders and rings meet
+//! the walls analytically, meshes through their samples. The rest of the engine only sees
+//! [`Contact`] records.
 
-use super::contact::Contact;
+use super::contact::{Contact, ContactKey, Counterpart};
+use super::contact_sampled::{sampled_feature, sampled_pair, sphere_shape};
+use super::contact_shape_wall::{shape_wall, shape_wall_feature};
 use super::contact_sphere_sphere::sphere_sphere;
 use super::contact_sphere_wall::sphere_wall;
+use super::samples::TypeGeometry;
 use crate::body::Body;
 use crate::container::{Container, WallId};
 use crate::error::SimError;
@@ -21,6 +27,8 @@ pub struct Pellet<'a> {
     pub body: &'a Body,
     /// Its shape.
     pub shape: &'a ShapeDesc,
+    /// Its type's samples and rims.
+    pub geom: &'a TypeGeometry,
 }
 
 /// Appends the contacts between pellets `a` and `b` with gap ≤ `max_gap` to `out`.
@@ -28,12 +36,12 @@ pub fn collide_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<C
     match (a.shape, b.shape) {
         (ShapeDesc::Sphere { radius: ra }, ShapeDesc::Sphere { radius: rb }) => {
             out.extend(sphere_sphere(a.index, &a.body.position, *ra, b.index, &b.body.position, *rb, max_gap));
-            Ok(())
         }
-        (ShapeDesc::Sphere { .. }, other) | (other, _) => {
-            Err(SimError::UnsupportedShape(format!("no contact generation for {}", other.kind_name())))
-        }
+        (ShapeDesc::Sphere { radius }, _) => out.extend(sphere_shape(a, *radius, b, true, max_gap)),
+        (_, ShapeDesc::Sphere { radius }) => out.extend(sphere_shape(b, *radius, a, false, max_gap)),
+        _ => sampled_pair(a, b, max_gap, out),
     }
+    Ok(())
 }
 
 /// Appends the contacts of pellet `a` with wall `wall` (gap ≤ `max_gap`) to `out`.
@@ -47,8 +55,47 @@ pub fn collide_wall(
     match a.shape {
         ShapeDesc::Sphere { radius } => {
             out.extend(sphere_wall(container, wall, a.index, &a.body.position, *radius, max_gap));
-            Ok(())
         }
-        other => Err(SimError::UnsupportedShape(format!("no wall contact generation for {}", other.kind_name()))),
+        _ => shape_wall(container, wall, a, max_gap, out),
     }
+    Ok(())
+}
+
+/// Re-evaluates the one contact with `key` between `a` and `b` (or a's wall) at the current
+/// poses, with no gap limit; its normal is that feature's own (not the patch's).
+pub fn collide_feature(
+    container: &Container,
+    a: Pellet<'_>,
+    b: Option<Pellet<'_>>,
+    key: &ContactKey,
+) -> Option<Contact> {
+    match (key.b, b) {
+        (Counterpart::Body(_), Some(b)) => match (a.shape, b.shape) {
+            (ShapeDesc::Sphere { .. }, _) | (_, ShapeDesc::Sphere { .. }) => {
+                let mut out = Vec::with_capacity(1);
+                collide_pair(a, b, Real::INFINITY, &mut out).ok()?;
+                out.pop()
+            }
+            _ => sampled_feature(a, b, key.feature),
+        },
+        (Counterpart::Wall(w), _) => match a.shape {
+            ShapeDesc::Sphere { radius } => {
+                sphere_wall(container, w, a.index, &a.body.position, *radius, Real::INFINITY)
+            }
+            _ => shape_wall_feature(container, w, a, key.feature),
+        },
+        _ => None,
+    }
+}
+
+/// Smallest gap between pellet `a` and any wall (negative if it pokes through one).
+pub fn min_wall_gap(container: &Container, a: Pellet<'_>) -> Real {
+    let mut out = Vec::new();
+    let mut walls = Vec::new();
+    container.wall_gaps(&a.body.position, a.body.bounding_radius, |w, _| walls.push(w));
+    for w in walls {
+        // Infallible for every shape kind.
+        let _ = collide_wall(container, w, a, Real::INFINITY, &mut out);
+    }
+    out.iter().map(|c| c.gap).fold(Real::INFINITY, Real::min)
 }

@@ -15,7 +15,8 @@ use crate::dynamics::stabilize::project_positions;
 use crate::error::SimError;
 use crate::geometry::broad_phase::BroadPhase;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
-use crate::geometry::narrow_phase::{collide_pair, collide_wall, Pellet};
+use crate::geometry::narrow_phase::{collide_feature, collide_pair, collide_wall, Pellet};
+use crate::geometry::samples::GeometryCache;
 use crate::math::{Real, Vec3};
 use crate::shape::BodyType;
 
@@ -94,6 +95,9 @@ pub struct StepReport {
     pub max_penetration_after_projection: Real,
     /// Energies at the end and dissipation during this step.
     pub energy: EnergyLedger,
+    /// Wall-clock seconds spent in (narrow phase, collision phase, resting phase, projection),
+    /// rewound substeps included. For profiling only; never feeds back into the physics.
+    pub wall_seconds: [Real; 4],
 }
 
 struct Proximity {
@@ -161,17 +165,21 @@ impl World {
         }
     }
 
+    fn pellet<'a>(&'a self, bodies: &'a [Body], index: usize, ty: usize) -> Pellet<'a> {
+        Pellet { index, body: &bodies[index], shape: &self.types[ty].shape, geom: &self.geometry.types[ty] }
+    }
+
     fn narrow_phase(&self, prox: &Proximity, max_gap: Real) -> Result<Vec<Contact>, SimError> {
         let mut out = Vec::new();
         for &(i, j) in &prox.pairs {
             let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
-            let pa = Pellet { index: i, body: &self.bodies[i], shape: &self.types[ti].shape };
-            let pb = Pellet { index: j, body: &self.bodies[j], shape: &self.types[tj].shape };
+            let pa = self.pellet(&self.bodies, i, ti);
+            let pb = self.pellet(&self.bodies, j, tj);
             collide_pair(pa, pb, max_gap, &mut out)?;
         }
         for &(k, wall) in &prox.walls {
             let t = self.bodies[k].type_id.0 as usize;
-            let pa = Pellet { index: k, body: &self.bodies[k], shape: &self.types[t].shape };
+            let pa = self.pellet(&self.bodies, k, t);
             collide_wall(&self.container, wall, pa, max_gap, &mut out)?;
         }
         Ok(out)
@@ -186,6 +194,7 @@ impl World {
                 reason: "must be finite and >= 0",
             });
         }
+        self.geometry.sync(&self.types);
         let mut report = StepReport { dt_min: Real::INFINITY, ..StepReport::default() };
         let t_end = self.time + dt_big;
         let cap = self.params.dt_cap;
@@ -238,7 +247,9 @@ impl World {
         let mut rewinds = 0;
         loop {
             // Generate contacts a little ahead: up to the distance a pair can close in dt.
+            let clock = std::time::Instant::now();
             let contacts = self.narrow_phase(prox, delta_c + prox.v_max * dt)?;
+            report.wall_seconds[0] += clock.elapsed().as_secs_f64();
             let (cor, mu): (Vec<Real>, Vec<Real>) = contacts
                 .iter()
                 .map(|c| match c.b {
@@ -246,10 +257,14 @@ impl World {
                     Counterpart::Wall(_) => (self.wall_material.cor, self.wall_material.friction),
                 })
                 .unzip();
+            let clock = std::time::Instant::now();
             let coll = collision_phase(&mut self.bodies, &contacts, &cor, &mu, &self.params, dt, delta_c);
+            report.wall_seconds[1] += clock.elapsed().as_secs_f64();
+            let clock = std::time::Instant::now();
             let warm = &pipeline.warm;
             let warm_fn = |k: &ContactKey| warm.binary_search_by(|e| e.0.cmp(k)).map_or(0.0, |i| warm[i].1);
             let (forces, rest) = resting_phase(&self.bodies, &contacts, &mu, &self.params, dt, delta_c, &warm_fn);
+            report.wall_seconds[2] += clock.elapsed().as_secs_f64();
             let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity(c, &self.bodies)).collect();
             let g = self.params.gravity;
             let max_rot = self.params.max_rotation_per_substep;
@@ -268,10 +283,12 @@ impl World {
                 let u1 = relative_velocity(c, &self.bodies);
                 friction_work += ff.dot(&(0.5 * (u0[i] + u1))) * dt;
             }
-            let (types, container) = (&self.types, &self.container);
-            let eval = |bodies: &[Body], c: &Contact| reevaluate(types, container, bodies, c);
+            let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
+            let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
             let mut bodies = std::mem::take(&mut self.bodies);
+            let clock = std::time::Instant::now();
             let proj = project_positions(&mut bodies, &contacts, &eval, slop, 0.01 * d, &g);
+            report.wall_seconds[3] += clock.elapsed().as_secs_f64();
             self.bodies = bodies;
             if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
                 self.bodies.clone_from(&pipeline.saved);
@@ -329,19 +346,17 @@ impl World {
     }
 }
 
-/// Re-evaluates a contact's pair at the given poses (the narrow phase for that pair only).
-fn reevaluate(types: &[BodyType], container: &Container, bodies: &[Body], c: &Contact) -> Option<Contact> {
-    let mut out = Vec::with_capacity(1);
-    let a = &bodies[c.a];
-    let pa = Pellet { index: c.a, body: a, shape: &types[a.type_id.0 as usize].shape };
-    let res = match c.b {
-        Counterpart::Body(j) => {
-            let b = &bodies[j];
-            let pb = Pellet { index: j, body: b, shape: &types[b.type_id.0 as usize].shape };
-            collide_pair(pa, pb, Real::INFINITY, &mut out)
-        }
-        Counterpart::Wall(w) => collide_wall(container, w, pa, Real::INFINITY, &mut out),
+/// Re-evaluates one contact's feature at the given poses (the narrow phase for that feature).
+fn reevaluate(
+    types: &[BodyType],
+    geometry: &GeometryCache,
+    container: &Container,
+    bodies: &[Body],
+    c: &Contact,
+) -> Option<Contact> {
+    let pellet = |k: usize| {
+        let t = bodies[k].type_id.0 as usize;
+        Pellet { index: k, body: &bodies[k], shape: &types[t].shape, geom: &geometry.types[t] }
     };
-    res.ok()?;
-    out.into_iter().find(|x| x.key == c.key)
+    collide_feature(container, pellet(c.a), c.b_body().map(pellet), &c.key)
 }

@@ -4,6 +4,8 @@ use super::ledger::EnergyLedger;
 use crate::body::{Body, BodyId, TypeId};
 use crate::container::Container;
 use crate::error::SimError;
+use crate::geometry::narrow_phase::{min_wall_gap, Pellet};
+use crate::geometry::samples::GeometryCache;
 use crate::math::{Quat, Real, Vec3};
 use crate::params::{EngineParams, Material, WallMaterial};
 use crate::shape::BodyType;
@@ -22,6 +24,9 @@ pub struct World {
     pub(crate) time: Real,
     /// Dissipation totals since the start.
     pub(crate) totals: EnergyLedger,
+    /// Surface samples of the types (derived; rebuilt after deserialisation).
+    #[serde(skip)]
+    pub(crate) geometry: GeometryCache,
 }
 
 impl World {
@@ -45,14 +50,17 @@ impl World {
             bodies: Vec::new(),
             time: 0.0,
             totals: EnergyLedger::default(),
+            geometry: GeometryCache::default(),
         })
     }
 
-    /// Registers a pellet type; fails for unsupported shapes or a tube too narrow for it.
+    /// Registers a pellet type; fails for invalid shapes or a tube too narrow for it (narrower
+    /// than the shape's [`crate::ShapeDesc::fit_radius`]).
     pub fn register_type(&mut self, body_type: BodyType) -> Result<TypeId, SimError> {
         body_type.validate()?;
-        self.container.validate(body_type.bounding_radius_m)?;
+        self.container.validate(body_type.shape.fit_radius())?;
         self.types.push(body_type);
+        self.geometry.sync(&self.types);
         Ok(TypeId(self.types.len() as u32 - 1))
     }
 
@@ -70,8 +78,9 @@ impl World {
         let all_finite =
             position.iter().chain(linear_velocity.iter()).chain(angular_velocity.iter()).all(|v| v.is_finite())
                 && orientation.coords.iter().all(|v| v.is_finite());
-        if !all_finite || !self.container.contains_sphere(&position, contact_radius(ty)) {
-            return Err(SimError::OutsideContainer { x: position.x, y: position.y, z: position.z });
+        let outside = SimError::OutsideContainer { x: position.x, y: position.y, z: position.z };
+        if !all_finite {
+            return Err(outside);
         }
         let density = self.material.density;
         let inertia_body = ty.inertia_per_density_m5 * density;
@@ -93,6 +102,14 @@ impl World {
             bounding_radius: ty.bounding_radius_m,
         };
         body.angular_momentum = body.inertia_world() * angular_velocity;
+        // Placement check with the exact wall gaps of the shape (a cylinder standing on the
+        // floor is inside although its bounding sphere is not), round-off tolerance 1e-9·r.
+        self.geometry.sync(&self.types);
+        let t = type_id.0 as usize;
+        let pellet = Pellet { index: self.bodies.len(), body: &body, shape: &ty.shape, geom: &self.geometry.types[t] };
+        if min_wall_gap(&self.container, pellet) < -1e-9 * ty.bounding_radius_m {
+            return Err(outside);
+        }
         self.bodies.push(body);
         Ok(BodyId(self.bodies.len() as u32 - 1))
     }
@@ -161,13 +178,5 @@ impl World {
     /// Reference pellet size d = twice the largest bounding radius (0 without types).
     pub fn reference_size(&self) -> Real {
         2.0 * self.types.iter().map(|t| t.bounding_radius_m).fold(0.0, Real::max)
-    }
-}
-
-/// The radius used to check placement: the sphere radius for spheres, else the bounding radius.
-fn contact_radius(ty: &BodyType) -> Real {
-    match ty.shape {
-        crate::shape::ShapeDesc::Sphere { radius } => radius,
-        _ => ty.bounding_radius_m,
     }
 }

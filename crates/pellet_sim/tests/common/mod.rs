@@ -62,3 +62,30 @@ pub fn omega(w: &World, id: BodyId) -> Vec3 {
 pub fn pos(w: &World, id: BodyId) -> Vec3 {
     w.body(id).unwrap().position
 }
+
+/// World with one pellet type `ty`.
+pub fn shape_world(
+    container: Container,
+    ty: BodyType,
+    mat: Material,
+    wall_mat: WallMaterial,
+    params: EngineParams,
+) -> (World, TypeId) {
+    let mut w = World::new(container, mat, wall_mat, params).unwrap();
+    let t = w.register_type(ty).unwrap();
+    (w, t)
+}
+
+pub fn add_q(w: &mut World, t: TypeId, x: Vec3, q: Quat, v: Vec3, omega: Vec3) -> BodyId {
+    w.add_body(t, x, q, v, omega).unwrap()
+}
+
+/// Sum of resting normal forces on the contacts of the last substep that satisfy `pick`.
+pub fn force_sum(p: &Pipeline, pick: impl Fn(&pellet_sim::Contact) -> bool) -> Real {
+    p.last_contacts().iter().filter(|r| pick(&r.contact)).map(|r| r.normal_force).sum()
+}
+
+/// Recommended-mode switch used by "bias on" variants.
+pub fn with_bias(params: EngineParams) -> EngineParams {
+    EngineParams { velocity_bias: true, ..params }
+}

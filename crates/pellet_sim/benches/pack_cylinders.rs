@@ -1,0 +1,135 @@
+//! Packing benchmark for cylinders and Raschig rings (plain std::time), the companion of
+//! `pack_spheres`: equilateral 10 mm cylinders and 10/6/10 mm rings dropped as a loose random
+//! column (random orientations, bounding spheres apart) into tubes sized for a bed near 120 mm.
+//!
+//! Run with `cargo bench -p pellet_sim --bench pack_cylinders` (`make bench` runs it). Cases are
+//! chosen by `PELLET_BENCH_CASES` (default `cyl:100,cyl:300,cyl:1000,ring:300,cyl:620@91.58`:
+//! kind:N[@tube mm]; without @ the tube diameter keeps the bed near 120 mm at porosity ≈ 0.4
+//! for cylinders, 0.55 for rings). `PELLET_BENCH_SIM_SECONDS` (default 1.0) and
+//! `PELLET_BENCH_WALL_SECONDS` (default 300) bound each case, as in the sphere bench; the table
+//! says how far a case got. Besides the sphere bench's figures it prints where the wall time
+//! went: narrow phase, collision phase, resting phase, position projection.
+
+use pellet_sim::{BodyType, Container, EngineParams, Material, Pipeline, Quat, Vec3, WallMaterial, World};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::time::Instant;
+
+fn env(name: &str, default: f64) -> f64 {
+    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+}
+
+/// Tube diameter (m) for a bed of height 0.12 m of `n` pellets of volume `v` at porosity `eps`.
+fn tube_for(n: usize, v: f64, eps: f64) -> f64 {
+    (4.0 * n as f64 * v / (std::f64::consts::PI * (1.0 - eps) * 0.12)).sqrt()
+}
+
+fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit: f64) {
+    let ty = match kind {
+        "ring" => BodyType::hollow_cylinder(0.003, 0.005, 0.005),
+        _ => BodyType::solid_cylinder(0.005, 0.005),
+    }
+    .expect("type");
+    let eps = if kind == "ring" { 0.55 } else { 0.4 };
+    let tube_d = tube_mm.map_or_else(|| tube_for(n, ty.volume_m3, eps), |d| d * 1e-3);
+    let rb = ty.bounding_radius_m;
+    let mut world = World::new(
+        Container::tube(tube_d).expect("tube"),
+        Material { density: 2000.0, cor: 0.5, friction: 0.3 },
+        WallMaterial { cor: 0.5, friction: 0.3 },
+        EngineParams {
+            exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", 64.0) as usize,
+            ..EngineParams::default()
+        },
+    )
+    .expect("world");
+    let t = world.register_type(ty).expect("register");
+    let mut rng = ChaCha8Rng::seed_from_u64(2026);
+    let rt = 0.5 * tube_d - 1.02 * rb;
+    let mut placed: Vec<Vec3> = Vec::new();
+    let mut z_top = 0.02;
+    while placed.len() < n {
+        let x = Vec3::new(rng.random_range(-rt..rt), rng.random_range(-rt..rt), rng.random_range(1.05 * rb..z_top));
+        z_top += 0.0004;
+        if x.xy().norm() > rt || placed.iter().any(|p| (p - x).norm() < 2.05 * rb) {
+            continue;
+        }
+        let axis = Vec3::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+        world.add_body(t, x, Quat::from_scaled_axis(axis * 6.0), Vec3::zeros(), Vec3::zeros()).expect("add");
+        placed.push(x);
+    }
+    let mut pipeline = Pipeline::new();
+    let start = Instant::now();
+    let (mut substeps, mut contacts, mut iterations, mut unconverged) = (0u64, 0u64, 0u64, 0u32);
+    let (mut residual, mut pen): (f64, f64) = (0.0, 0.0);
+    let mut phases = [0.0f64; 4];
+    while world.time() < sim_seconds && start.elapsed().as_secs_f64() < wall_limit {
+        let rep = world.step(1.0 / 40.0, &mut pipeline).expect("step");
+        substeps += rep.substeps as u64;
+        contacts += rep.contacts;
+        iterations += rep.solver_iterations;
+        unconverged += rep.unconverged_islands;
+        residual = residual.max(rep.solver_residual);
+        pen = pen.max(rep.max_penetration);
+        phases.iter_mut().zip(rep.wall_seconds).for_each(|(a, b)| *a += b);
+    }
+    let s = substeps.max(1) as f64;
+    let wall = start.elapsed().as_secs_f64();
+    let pct = |x: f64| 100.0 * x / wall.max(1e-300);
+    let zmax = world.bodies().iter().map(|b| b.position.z).fold(0.0, f64::max);
+    println!(
+        "{:>5} {:>5} {:>7.2} {:>8.1} {:>7.3} {:>9} {:>9.1} {:>9.1} {:>9.2e} {:>6} {:>8.2e} {:>9.2e} {:>7.3} {:>5.0} {:>5.0} {:>5.0} {:>5.0}",
+        kind,
+        n,
+        tube_d * 1e3,
+        wall,
+        world.time(),
+        substeps,
+        contacts as f64 / s,
+        iterations as f64 / s,
+        residual,
+        unconverged,
+        pen / 0.01,
+        world.kinetic_energy(),
+        zmax,
+        pct(phases[0]),
+        pct(phases[1]),
+        pct(phases[2]),
+        pct(phases[3]),
+    );
+}
+
+fn main() {
+    let sim = env("PELLET_BENCH_SIM_SECONDS", 1.0);
+    let wall = env("PELLET_BENCH_WALL_SECONDS", 300.0);
+    println!(
+        "{:>5} {:>5} {:>7} {:>8} {:>7} {:>9} {:>9} {:>9} {:>9} {:>6} {:>8} {:>9} {:>7} {:>5} {:>5} {:>5} {:>5}",
+        "kind",
+        "N",
+        "D[mm]",
+        "wall[s]",
+        "sim[s]",
+        "substeps",
+        "contacts/",
+        "solverit/",
+        "worst res",
+        "unconv",
+        "pen/10mm",
+        "KE end[J]",
+        "top[m]",
+        "%nar",
+        "%col",
+        "%rest",
+        "%proj"
+    );
+    let cases = std::env::var("PELLET_BENCH_CASES")
+        .unwrap_or_else(|_| "cyl:100,cyl:300,cyl:1000,ring:300,cyl:620@91.58".into());
+    for c in cases.split(',') {
+        let (kind, rest) = c.trim().split_once(':').unwrap_or(("cyl", c.trim()));
+        let (n, tube) = match rest.split_once('@') {
+            Some((n, d)) => (n.parse().expect("N"), Some(d.parse().expect("tube mm"))),
+            None => (rest.parse().expect("N"), None),
+        };
+        case(kind, n, tube, sim, wall);
+    }
+}

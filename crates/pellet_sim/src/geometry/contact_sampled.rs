@@ -1,0 +1,336 @@
+//! Sampled contacts between two non-spherical pellets (physics.md §6.2–6.4): each body's surface
+//! samples go into the other's signed distance (both ways), clusters are culled by the Lipschitz
+//! bound first, rim samples near the other body are refined along the rim angle (rim–rim
+//! crossings), and the hits are grouped into patches of one normal reduced to ≤ 4 points.
+//! Also: a sphere against any shape (its centre in the shape's SDF, one point).
+
+use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
+use super::narrow_phase::Pellet;
+use super::samples::{cone_alignment, rim_point};
+use super::sdf::{edge_cone, edge_faces, eval, lipschitz};
+use crate::math::{Mat3, Real, Vec3};
+use std::f64::consts::TAU;
+
+/// Feature bit: the sample belongs to B (its point went into A's SDF).
+const SIDE_B: u32 = 1 << 31;
+/// Feature bit: a rim sample refined to the local minimum along its rim.
+const REFINED: u32 = 1 << 30;
+/// Normals closer than this (cosine) share a patch (physics.md §6.4).
+const PATCH_COS: Real = 0.98;
+/// How much deeper (× the other body's bounding radius) the alternative face of an edge may be.
+const FACE_SWITCH: Real = 0.02;
+/// An edge hit joins a patch if its normal is within ~2.6° of both bodies' normal cones.
+const WEDGE_COS: Real = 0.999;
+/// Distance from an edge (× R_b) below which the SDF's direction is round-off.
+const EDGE_EPS: Real = 1e-9;
+/// Golden-section iterations of the rim refinement (interval × 0.618²⁴ ≈ 1e-5).
+const GOLDEN_ITERS: usize = 24;
+
+/// One candidate contact point before patching.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Hit {
+    /// A's surface point, world.
+    pub pa: Vec3,
+    /// B's surface point, world.
+    pub pb: Vec3,
+    /// Unit normal B → A.
+    pub normal: Vec3,
+    /// Signed gap, m.
+    pub gap: Real,
+    /// Feature id (persistent key).
+    pub feature: u32,
+    /// Body whose SDF gave the normal.
+    pub owner: NormalOwner,
+    /// For an edge contact (the closest feature of the SDF's body is an edge): the cones of
+    /// normals (B → A) that the two bodies' surfaces allow there, (SDF body's, sample body's).
+    pub wedge: Option<[(Vec3, Vec3); 2]>,
+}
+
+fn rotation(p: &Pellet<'_>) -> Mat3 {
+    *p.body.orientation.to_rotation_matrix().matrix()
+}
+
+/// Golden-section minimum of `f` on [lo, hi] (f unimodal there); returns (argmin, min).
+pub(crate) fn golden_min(f: impl Fn(Real) -> Real, mut lo: Real, mut hi: Real) -> (Real, Real) {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let mut x1 = hi - r * (hi - lo);
+    let mut x2 = lo + r * (hi - lo);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..GOLDEN_ITERS {
+        if f1 <= f2 {
+            hi = x2;
+            (x2, f2) = (x1, f1);
+            x1 = hi - r * (hi - lo);
+            f1 = f(x1);
+        } else {
+            lo = x1;
+            (x1, f1) = (x2, f2);
+            x2 = lo + r * (hi - lo);
+            f2 = f(x2);
+        }
+    }
+    if f1 <= f2 {
+        (x1, f1)
+    } else {
+        (x2, f2)
+    }
+}
+
+/// The samples of `src` tested against the SDF of `dst`.
+struct OneWay<'a> {
+    src: Pellet<'a>,
+    dst: Pellet<'a>,
+    /// src body frame → dst body frame: p ↦ m p + t.
+    m: Mat3,
+    t: Vec3,
+    rs: Mat3,
+    rd: Mat3,
+    src_is_b: bool,
+}
+
+impl<'a> OneWay<'a> {
+    fn new(src: Pellet<'a>, dst: Pellet<'a>, src_is_b: bool) -> Self {
+        let (rs, rd) = (rotation(&src), rotation(&dst));
+        let m = rd.transpose() * rs;
+        let t = rd.transpose() * (src.body.position - dst.body.position);
+        Self { src, dst, m, t, rs, rd, src_is_b }
+    }
+
+    fn phi(&self, s: &Vec3) -> (Real, Vec3) {
+        eval(self.dst.shape, &(self.m * s + self.t))
+    }
+
+    /// The hit of body-frame sample point `s` (sample `i`) of src, or None if src's surface
+    /// there faces away from dst's normal (a sample that touches dst only edge-on, e.g. a rim
+    /// exactly over an equal rim, where the Euclidean SDF reports the lateral face at depth 0).
+    ///
+    /// Inside dst near an edge, or within round-off (`EDGE_EPS` · R_b) of an edge outside, the
+    /// SDF's face is swapped for the other face of the edge if that one is at most
+    /// `FACE_SWITCH` · R_b deeper and faces src's surface better: for stacked cylinders this
+    /// gives the cap normal instead of a radial one from round-off.
+    fn hit(&self, s: &Vec3, i: usize, feature: u32) -> Option<Hit> {
+        let pd = self.m * s + self.t;
+        let (mut phi, mut g) = eval(self.dst.shape, &pd);
+        let cone = &self.src.geom.cones[i];
+        let cone = (self.m * cone.0, self.m * cone.1);
+        let mut align = cone_alignment(&-g, &cone);
+        let r_dst = self.dst.geom.bounding_radius;
+        for (phi2, g2) in edge_faces(self.dst.shape, &pd, EDGE_EPS * r_dst).into_iter().flatten() {
+            let a2 = cone_alignment(&-g2, &cone);
+            if phi2 >= phi - FACE_SWITCH * r_dst && a2 > align {
+                (phi, g, align) = (phi2, g2, a2);
+            }
+        }
+        if align <= 0.0 {
+            return None;
+        }
+        let n_out = self.rd * g;
+        let p = self.rs * s + self.src.body.position;
+        // Cones in terms of n (B → A): dst's outward normal is n if dst is B, −n if dst is A;
+        // src's outward normal is the opposite.
+        let sign = if self.src_is_b { -1.0 } else { 1.0 };
+        let wedge = edge_cone(self.dst.shape, &pd).map(|(e1, e2)| {
+            [(self.rd * e1 * sign, self.rd * e2 * sign), (self.rd * cone.0 * -sign, self.rd * cone.1 * -sign)]
+        });
+        Some(if self.src_is_b {
+            let normal = -n_out;
+            let feature = feature | SIDE_B;
+            Hit { pa: p + normal * phi, pb: p, normal, gap: phi, feature, owner: NormalOwner::A, wedge }
+        } else {
+            Hit { pa: p, pb: p - n_out * phi, normal: n_out, gap: phi, feature, owner: NormalOwner::B, wedge }
+        })
+    }
+
+    /// The deepest point along the rim of sample `i` within one sample spacing of it.
+    fn refined(&self, i: usize) -> Vec3 {
+        let geo = self.src.geom;
+        let rim = &geo.rims[geo.rim_of[i] as usize];
+        let step = TAU / rim.count as Real;
+        let t0 = step * (i - rim.start) as Real;
+        let f = |t: Real| self.phi(&rim_point(rim.radius, rim.z, t)).0;
+        let (t, _) = golden_min(f, t0 - step, t0 + step);
+        rim_point(rim.radius, rim.z, t)
+    }
+
+    /// The hit for a persistent feature (used to re-evaluate one contact).
+    fn feature(&self, feature: u32) -> Option<Hit> {
+        let i = (feature & !(SIDE_B | REFINED)) as usize;
+        let s = *self.src.geom.samples.get(i)?;
+        let s = if feature & REFINED != 0 { self.refined(i) } else { s };
+        self.hit(&s, i, feature & !SIDE_B)
+    }
+
+    fn collect(&self, max_gap: Real, hits: &mut Vec<Hit>) {
+        let geo = self.src.geom;
+        let lip = lipschitz(self.dst.shape);
+        let r_dst = self.dst.geom.bounding_radius;
+        let rim_slack = (0..geo.rims.len()).map(|k| geo.rim_spacing(k)).fold(0.0, Real::max);
+        let reach = max_gap + rim_slack;
+        for cl in &geo.clusters {
+            let pc = self.m * cl.centre + self.t;
+            // Bounding volume first, then the Lipschitz bound φ(s) ≥ φ(c) − L|s − c|.
+            if pc.norm() - cl.radius > r_dst + reach || self.phi(&cl.centre).0 - lip * cl.radius > reach {
+                continue;
+            }
+            for &i in &cl.members {
+                let i = i as usize;
+                let s = &geo.samples[i];
+                let phi = self.phi(s).0;
+                let rim = geo.rim_of[i];
+                if rim != u32::MAX && phi <= max_gap + geo.rim_spacing(rim as usize) {
+                    let r = &geo.rims[rim as usize];
+                    let k = i - r.start;
+                    let prev = r.start + (k + r.count - 1) % r.count;
+                    let next = r.start + (k + 1) % r.count;
+                    // Refine only at a local minimum along the rim, so that one crossing gives
+                    // one refined point (ties broken towards the lower index).
+                    if phi <= self.phi(&geo.samples[prev]).0 && phi < self.phi(&geo.samples[next]).0 {
+                        if let Some(h) = self.hit(&self.refined(i), i, i as u32 | REFINED) {
+                            if h.gap <= max_gap {
+                                hits.push(h);
+                            }
+                        }
+                        continue;
+                    }
+                }
+                if phi <= max_gap {
+                    hits.extend(self.hit(s, i, i as u32).filter(|h| h.gap <= max_gap));
+                }
+            }
+        }
+    }
+}
+
+fn contact(a: &Pellet<'_>, b: &Pellet<'_>, h: &Hit, normal: Vec3, owner: NormalOwner) -> Contact {
+    Contact {
+        a: a.index,
+        b: Counterpart::Body(b.index),
+        point: 0.5 * (h.pa + h.pb),
+        lever_a: h.pa - a.body.position,
+        lever_b: h.pb - b.body.position,
+        normal,
+        gap: h.gap,
+        kinematics: GapKinematics::Point { owner },
+        key: ContactKey { a: a.index as u32, b: Counterpart::Body(b.index), feature: h.feature },
+    }
+}
+
+/// Sampled contacts between two pellets, both ways, patched and reduced.
+pub fn sampled_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<Contact>) {
+    let mut hits = Vec::new();
+    OneWay::new(a, b, false).collect(max_gap, &mut hits);
+    OneWay::new(b, a, true).collect(max_gap, &mut hits);
+    for patch in patches(&mut hits) {
+        let first = &hits[patch[0]];
+        let (normal, owner) = (first.normal, first.owner);
+        for k in reduce(&hits, &patch, &normal) {
+            out.push(contact(&a, &b, &hits[k], normal, owner));
+        }
+    }
+}
+
+/// Re-evaluates the sampled contact with `feature` at the current poses (own normal).
+pub fn sampled_feature(a: Pellet<'_>, b: Pellet<'_>, feature: u32) -> Option<Contact> {
+    let h = if feature & SIDE_B != 0 {
+        OneWay::new(b, a, true).feature(feature)?
+    } else {
+        OneWay::new(a, b, false).feature(feature)?
+    };
+    Some(contact(&a, &b, &h, h.normal, h.owner))
+}
+
+/// Sphere `s` (radius `r`) against any shape `o`: the centre in o's SDF, one point.
+pub fn sphere_shape(s: Pellet<'_>, r: Real, o: Pellet<'_>, sphere_is_a: bool, max_gap: Real) -> Option<Contact> {
+    let ro = rotation(&o);
+    let c = s.body.position;
+    let (phi, g) = eval(o.shape, &(ro.transpose() * (c - o.body.position)));
+    let gap = phi - r;
+    if gap > max_gap {
+        return None;
+    }
+    let n_out = ro * g;
+    let (a, b, h) = if sphere_is_a {
+        let h = Hit {
+            pa: c - n_out * r,
+            pb: c - n_out * phi,
+            normal: n_out,
+            gap,
+            feature: 0,
+            owner: NormalOwner::B,
+            wedge: None,
+        };
+        (s, o, h)
+    } else {
+        let n = -n_out;
+        let h = Hit { pa: c + n * phi, pb: c + n * r, normal: n, gap, feature: 0, owner: NormalOwner::A, wedge: None };
+        (o, s, h)
+    };
+    Some(contact(&a, &b, &h, h.normal, h.owner))
+}
+
+/// Groups hits by normal (cos > 0.98), deepest first; each patch's first hit is its deepest
+/// face hit. Face hits are grouped first; an edge hit then joins a patch whose normal both
+/// bodies' normal cones allow at that point (two nearly coinciding rims: the cap patch), with
+/// its gap measured along the patch normal, else it starts its own patch.
+/// Sorts `hits` by (edge, gap, feature) so the result is deterministic.
+pub(crate) fn patches(hits: &mut [Hit]) -> Vec<Vec<usize>> {
+    hits.sort_by(|x, y| {
+        x.wedge.is_some().cmp(&y.wedge.is_some()).then(x.gap.total_cmp(&y.gap)).then(x.feature.cmp(&y.feature))
+    });
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for i in 0..hits.len() {
+        let h = hits[i];
+        let fits = |n: &Vec3| match &h.wedge {
+            Some([c1, c2]) => cone_alignment(n, c1) > WEDGE_COS && cone_alignment(n, c2) > WEDGE_COS,
+            None => false,
+        };
+        let found = out.iter().position(|p| {
+            let n = hits[p[0]].normal;
+            n.dot(&h.normal) > PATCH_COS || fits(&n)
+        });
+        match found {
+            Some(k) => {
+                let n = hits[out[k][0]].normal;
+                if h.wedge.is_some() {
+                    hits[i].gap = n.dot(&(h.pa - h.pb));
+                }
+                out[k].push(i);
+            }
+            None => out.push(vec![i]),
+        }
+    }
+    out
+}
+
+/// Reduces a patch to ≤ 4 points (physics.md §6.4): the deepest, the farthest from it, the one
+/// making the largest triangle, and the one adding the most area outside that triangle.
+pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3) -> Vec<usize> {
+    if patch.len() <= 4 {
+        return patch.to_vec();
+    }
+    let p = |k: usize| hits[patch[k]].pa;
+    let argmax = |f: &dyn Fn(usize) -> Real| {
+        (0..patch.len()).fold((0, Real::NEG_INFINITY), |best, k| if f(k) > best.1 { (k, f(k)) } else { best })
+    };
+    let i0 = 0;
+    let (i1, d1) = argmax(&|k| (p(k) - p(i0)).norm_squared());
+    if d1 <= 0.0 {
+        return vec![patch[i0]];
+    }
+    let area = |u: usize, v: usize, q: usize| n.dot(&(p(v) - p(u)).cross(&(p(q) - p(u))));
+    let (i2, a2) = argmax(&|k| area(i0, i1, k).abs());
+    if a2 <= 0.0 {
+        return vec![patch[i0], patch[i1]];
+    }
+    let sigma = area(i0, i1, i2).signum();
+    // Area outside each edge of the triangle (positive on the side away from the triangle).
+    let outside = |k: usize| {
+        [(i0, i1), (i1, i2), (i2, i0)].iter().map(|&(u, v)| -sigma * area(u, v, k)).fold(Real::NEG_INFINITY, Real::max)
+    };
+    let (i3, a3) = argmax(&outside);
+    let mut keep = vec![patch[i0], patch[i1], patch[i2]];
+    if a3 > 0.0 {
+        keep.push(patch[i3]);
+    }
+    keep
+}

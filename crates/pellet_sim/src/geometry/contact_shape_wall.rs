@@ -1,0 +1,157 @@
+//! Contacts of non-spherical pellets with the static walls (physics.md §6.5).
+//!
+//! Cylinders and rings, analytically: against a plane, per outer rim the lowest point plus the
+//! three rim points 90°, 180° and 270° from it (a cap lying flat then gives a 4-point support
+//! square; tilted, only the lowest point is near); against the tube wall, per outer rim the
+//! point of largest radial distance (a 1-D maximisation along the rim). The maximum of the
+//! convex function ρ over a cylinder lies on a rim circle, so this is exact.
+//! Mesh shapes: their samples, reduced to ≤ 4 points per wall.
+
+use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
+use super::contact_sampled::{golden_min, reduce, Hit};
+use super::narrow_phase::Pellet;
+use super::samples::rim_point;
+use crate::container::{Container, WallId};
+use crate::math::{Real, Vec3};
+use crate::shape::ShapeDesc;
+use std::f64::consts::TAU;
+
+/// Coarse angles scanned before the golden-section refinement of the tube-wall maximum.
+const TUBE_SCAN: usize = 16;
+
+/// A plane wall as (inward normal, offset): gap(p) = n·p − offset.
+fn plane(container: &Container, wall: WallId) -> Option<(Vec3, Real)> {
+    match wall {
+        WallId::Floor => Some((Vec3::z(), 0.0)),
+        WallId::Lid => container.lid_height.map(|h| (-Vec3::z(), -h)),
+        WallId::Plane(i) => container.planes.get(i as usize).map(|p| (p.normal, p.offset)),
+        WallId::Tube => None,
+    }
+}
+
+fn make(a: &Pellet<'_>, wall: WallId, p: Vec3, normal: Vec3, gap: Real, kin: GapKinematics, feature: u32) -> Contact {
+    Contact {
+        a: a.index,
+        b: Counterpart::Wall(wall),
+        point: p - normal * (0.5 * gap),
+        lever_a: p - a.body.position,
+        lever_b: Vec3::zeros(),
+        normal,
+        gap,
+        kinematics: kin,
+        key: ContactKey { a: a.index as u32, b: Counterpart::Wall(wall), feature },
+    }
+}
+
+/// Tube wall normal and gap at world point `p`.
+fn tube_at(container: &Container, p: &Vec3) -> (Vec3, Real, Real) {
+    let rho = p.x.hypot(p.y);
+    let n = if rho > 0.0 { Vec3::new(-p.x / rho, -p.y / rho, 0.0) } else { -Vec3::x() };
+    (n, container.tube_radius - rho, rho)
+}
+
+/// Contacts of a cylinder or ring (`a`) with `wall`, gap ≤ `max_gap`.
+fn rims_wall(container: &Container, wall: WallId, a: &Pellet<'_>, max_gap: Real, out: &mut Vec<Contact>) {
+    let rot = *a.body.orientation.to_rotation_matrix().matrix();
+    let x = a.body.position;
+    let axis = rot.column(2).into_owned();
+    for (k, rim) in a.geom.rims.iter().enumerate().filter(|(_, r)| r.outer) {
+        let centre = x + axis * rim.z;
+        if let Some((n, offset)) = plane(container, wall) {
+            let d = -(n - axis * n.dot(&axis));
+            let e = if d.norm() > 1e-12 { d.normalize() } else { rot.column(0).into_owned() };
+            let f = axis.cross(&e);
+            for (j, dir) in [e, f, -e, -f].iter().enumerate() {
+                let p = centre + dir * rim.radius;
+                let gap = n.dot(&p) - offset;
+                if gap <= max_gap {
+                    let kin = GapKinematics::Point { owner: NormalOwner::Fixed };
+                    out.push(make(a, wall, p, n, gap, kin, (4 * k + j) as u32));
+                }
+            }
+        } else {
+            let world = |t: Real| rot * rim_point(rim.radius, rim.z, t) + x;
+            let neg_rho = |t: Real| {
+                let p = world(t);
+                -p.x.hypot(p.y)
+            };
+            let step = TAU / TUBE_SCAN as Real;
+            let best = (0..TUBE_SCAN).map(|s| step * s as Real).fold((0.0, Real::INFINITY), |b, t| {
+                let v = neg_rho(t);
+                if v < b.1 {
+                    (t, v)
+                } else {
+                    b
+                }
+            });
+            let (t, _) = golden_min(neg_rho, best.0 - step, best.0 + step);
+            let p = world(t);
+            let (n, gap, rho) = tube_at(container, &p);
+            if gap <= max_gap {
+                out.push(make(a, wall, p, n, gap, GapKinematics::PointTube { rho }, k as u32));
+            }
+        }
+    }
+}
+
+/// The wall contact of mesh sample `i` of `a`.
+fn sample_hit(container: &Container, wall: WallId, a: &Pellet<'_>, i: usize) -> Option<(Hit, GapKinematics)> {
+    let p = a.body.orientation * a.geom.samples.get(i)? + a.body.position;
+    let (n, gap, kin) = match plane(container, wall) {
+        Some((n, offset)) => (n, n.dot(&p) - offset, GapKinematics::Point { owner: NormalOwner::Fixed }),
+        None if wall == WallId::Tube => {
+            let (n, gap, rho) = tube_at(container, &p);
+            (n, gap, GapKinematics::PointTube { rho })
+        }
+        None => return None,
+    };
+    let hit = Hit { pa: p, pb: p - n * gap, normal: n, gap, feature: i as u32, owner: NormalOwner::Fixed, wedge: None };
+    Some((hit, kin))
+}
+
+/// Contacts of a mesh pellet with `wall`: samples within `max_gap`, reduced to ≤ 4.
+fn samples_wall(container: &Container, wall: WallId, a: &Pellet<'_>, max_gap: Real, out: &mut Vec<Contact>) {
+    let mut hits = Vec::new();
+    let mut kins = Vec::new();
+    for i in 0..a.geom.samples.len() {
+        if let Some((h, kin)) = sample_hit(container, wall, a, i) {
+            if h.gap <= max_gap {
+                hits.push(h);
+                kins.push(kin);
+            }
+        }
+    }
+    if hits.is_empty() {
+        return;
+    }
+    let mut order: Vec<usize> = (0..hits.len()).collect();
+    order.sort_by(|&i, &j| hits[i].gap.total_cmp(&hits[j].gap).then(i.cmp(&j)));
+    let n = hits[order[0]].normal;
+    for k in reduce(&hits, &order, &n) {
+        let h = &hits[k];
+        out.push(make(a, wall, h.pa, h.normal, h.gap, kins[k], h.feature));
+    }
+}
+
+/// Contacts of a non-spherical pellet with `wall`, gap ≤ `max_gap`.
+pub fn shape_wall(container: &Container, wall: WallId, a: Pellet<'_>, max_gap: Real, out: &mut Vec<Contact>) {
+    match a.shape {
+        ShapeDesc::Mesh { .. } => samples_wall(container, wall, &a, max_gap, out),
+        _ => rims_wall(container, wall, &a, max_gap, out),
+    }
+}
+
+/// Re-evaluates the wall contact with `feature` at the current pose.
+pub fn shape_wall_feature(container: &Container, wall: WallId, a: Pellet<'_>, feature: u32) -> Option<Contact> {
+    match a.shape {
+        ShapeDesc::Mesh { .. } => {
+            let (h, kin) = sample_hit(container, wall, &a, feature as usize)?;
+            Some(make(&a, wall, h.pa, h.normal, h.gap, kin, h.feature))
+        }
+        _ => {
+            let mut out = Vec::new();
+            rims_wall(container, wall, &a, Real::INFINITY, &mut out);
+            out.into_iter().find(|c| c.key.feature == feature)
+        }
+    }
+}

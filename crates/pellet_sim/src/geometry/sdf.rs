@@ -1,0 +1,185 @@
+//! Signed distances with gradients in the body frame (physics.md §6.3): the closed forms of the
+//! paper's three shapes and a sampled grid for any other shape (built outside this crate, e.g.
+//! from parry3d's distance to the pellet's triangle mesh, and handed over as plain data so that
+//! the world stays serialisable and this crate free of mesh queries).
+
+use crate::error::SimError;
+use crate::math::{Real, Vec3};
+use crate::shape::ShapeDesc;
+use serde::{Deserialize, Serialize};
+
+/// A signed-distance field sampled on a regular grid (body frame), trilinearly interpolated.
+///
+/// `values[i + nx (j + ny k)]` is the signed distance (m, < 0 inside) at
+/// `origin + cell (i, j, k)`. The grid must cover the shape plus `margin` on every side: outside
+/// it the distance is taken as `margin` plus the distance to the grid box, a lower bound of the
+/// true distance (so culling stays safe) that is never small enough to make a contact.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SdfGrid {
+    /// Position of grid node (0, 0, 0), m.
+    pub origin: Vec3,
+    /// Node spacing, m.
+    pub cell: Real,
+    /// Nodes per axis.
+    pub dims: [usize; 3],
+    /// Node values, x fastest, m (f32: 1e-7 relative is far below the interpolation error).
+    pub values: Vec<f32>,
+    /// Clearance between the shape and the grid box, m.
+    pub margin: Real,
+}
+
+impl SdfGrid {
+    /// Checks sizes and finiteness.
+    pub fn validate(&self) -> Result<(), SimError> {
+        let n: usize = self.dims.iter().product();
+        let ok = self.dims.iter().all(|&d| d >= 2)
+            && self.values.len() == n
+            && self.cell.is_finite()
+            && self.cell > 0.0
+            && self.margin.is_finite()
+            && self.margin > 0.0
+            && self.origin.iter().all(|v| v.is_finite())
+            && self.values.iter().all(|v| v.is_finite());
+        if ok {
+            Ok(())
+        } else {
+            Err(SimError::InvalidParameter {
+                name: "sdf grid",
+                value: self.values.len() as Real,
+                reason: "needs ≥ 2 nodes per axis, one finite value per node, cell > 0 and margin > 0",
+            })
+        }
+    }
+
+    fn at(&self, i: usize, j: usize, k: usize) -> Real {
+        self.values[i + self.dims[0] * (j + self.dims[1] * k)] as Real
+    }
+
+    /// Trilinear value and gradient at `p`.
+    pub fn eval(&self, p: &Vec3) -> (Real, Vec3) {
+        let mut u = [0.0; 3];
+        let mut outside = Vec3::zeros();
+        for a in 0..3 {
+            let hi = (self.dims[a] - 1) as Real;
+            let x = (p[a] - self.origin[a]) / self.cell;
+            let xc = x.clamp(0.0, hi);
+            outside[a] = (x - xc) * self.cell;
+            u[a] = xc;
+        }
+        if outside != Vec3::zeros() {
+            let d = outside.norm();
+            return (self.margin + d, outside / d);
+        }
+        let idx = |a: usize| -> (usize, Real) {
+            let i = (u[a].floor() as usize).min(self.dims[a] - 2);
+            (i, u[a] - i as Real)
+        };
+        let ((i, fx), (j, fy), (k, fz)) = (idx(0), idx(1), idx(2));
+        let c = |di, dj, dk| self.at(i + di, j + dj, k + dk);
+        let (c000, c100, c010, c110) = (c(0, 0, 0), c(1, 0, 0), c(0, 1, 0), c(1, 1, 0));
+        let (c001, c101, c011, c111) = (c(0, 0, 1), c(1, 0, 1), c(0, 1, 1), c(1, 1, 1));
+        let lerp = |a: Real, b: Real, t: Real| a + (b - a) * t;
+        let x00 = lerp(c000, c100, fx);
+        let x10 = lerp(c010, c110, fx);
+        let x01 = lerp(c001, c101, fx);
+        let x11 = lerp(c011, c111, fx);
+        let y0 = lerp(x00, x10, fy);
+        let y1 = lerp(x01, x11, fy);
+        let v = lerp(y0, y1, fz);
+        let dx = lerp(lerp(c100 - c000, c110 - c010, fy), lerp(c101 - c001, c111 - c011, fy), fz);
+        let dy = lerp(x10 - x00, x11 - x01, fz);
+        let dz = y1 - y0;
+        let g = Vec3::new(dx, dy, dz) / self.cell;
+        let n = g.norm();
+        (v, if n > 0.0 { g / n } else { Vec3::z() })
+    }
+}
+
+/// `sd(q)` of physics.md §6.3 with its gradient in (radial, axial) components.
+fn sd_box2(qx: Real, qy: Real) -> (Real, Real, Real) {
+    if qx > 0.0 && qy > 0.0 {
+        let d = qx.hypot(qy);
+        (d, qx / d, qy / d)
+    } else if qx >= qy {
+        (qx, 1.0, 0.0)
+    } else {
+        (qy, 0.0, 1.0)
+    }
+}
+
+/// Unit radial direction of `p` (x when on the axis, a fixed choice: any is valid there).
+fn radial(p: &Vec3) -> (Real, Vec3) {
+    let rho = p.x.hypot(p.y);
+    if rho > 0.0 {
+        (rho, Vec3::new(p.x / rho, p.y / rho, 0.0))
+    } else {
+        (0.0, Vec3::x())
+    }
+}
+
+/// Signed distance and unit outward gradient of `shape` at body-frame point `p`.
+pub fn eval(shape: &ShapeDesc, p: &Vec3) -> (Real, Vec3) {
+    match shape {
+        ShapeDesc::Sphere { radius } => {
+            let d = p.norm();
+            (d - radius, if d > 0.0 { p / d } else { Vec3::z() })
+        }
+        ShapeDesc::Cylinder { radius, half_height } => {
+            let (rho, er) = radial(p);
+            let ez = Vec3::new(0.0, 0.0, if p.z >= 0.0 { 1.0 } else { -1.0 });
+            let (d, gr, gz) = sd_box2(rho - radius, p.z.abs() - half_height);
+            (d, er * gr + ez * gz)
+        }
+        ShapeDesc::HollowCylinder { inner_radius, outer_radius, half_height } => {
+            let (rho, er) = radial(p);
+            let mid = 0.5 * (inner_radius + outer_radius);
+            let half_wall = 0.5 * (outer_radius - inner_radius);
+            let s = if rho >= mid { er } else { -er };
+            let ez = Vec3::new(0.0, 0.0, if p.z >= 0.0 { 1.0 } else { -1.0 });
+            let (d, gr, gz) = sd_box2((rho - mid).abs() - half_wall, p.z.abs() - half_height);
+            (d, s * gr + ez * gz)
+        }
+        ShapeDesc::Mesh { grid, .. } => grid.eval(p),
+    }
+}
+
+/// The two faces (depth, outward normal) of a cylinder or ring that meet at the edge nearest to
+/// `p`, when `p` is inside or within `eps` of that edge: there the Euclidean SDF's choice (the
+/// shallower face, or the direction to the edge) is ambiguous or round-off noise, and the narrow
+/// phase may prefer the face that faces the other body (see `contact_sampled`).
+pub fn edge_faces(shape: &ShapeDesc, p: &Vec3, eps: Real) -> Option<[(Real, Vec3); 2]> {
+    let (qx, qy, s) = match shape {
+        ShapeDesc::Cylinder { radius, half_height } => {
+            let (rho, er) = radial(p);
+            (rho - radius, p.z.abs() - half_height, er)
+        }
+        ShapeDesc::HollowCylinder { inner_radius, outer_radius, half_height } => {
+            let (rho, er) = radial(p);
+            let mid = 0.5 * (inner_radius + outer_radius);
+            let s = if rho >= mid { er } else { -er };
+            ((rho - mid).abs() - 0.5 * (outer_radius - inner_radius), p.z.abs() - half_height, s)
+        }
+        _ => return None,
+    };
+    if qx.max(0.0).hypot(qy.max(0.0)) > eps {
+        return None;
+    }
+    let ez = Vec3::new(0.0, 0.0, if p.z >= 0.0 { 1.0 } else { -1.0 });
+    Some([(qx, s), (qy, ez)])
+}
+
+/// The normal cone (outward, two unit vectors) of the cylinder or ring edge nearest to `p` when
+/// `p` lies outside in the edge's corner region (both the radial and the axial excess > 0).
+pub fn edge_cone(shape: &ShapeDesc, p: &Vec3) -> Option<(Vec3, Vec3)> {
+    let faces = edge_faces(shape, p, Real::INFINITY)?;
+    (faces[0].0 > 0.0 && faces[1].0 > 0.0).then_some((faces[0].1, faces[1].1))
+}
+
+/// Lipschitz constant of [`eval`]'s value: 1 for exact distances; √3 bounds the trilinear
+/// interpolant of a 1-Lipschitz grid (each partial derivative is a node difference over a cell).
+pub fn lipschitz(shape: &ShapeDesc) -> Real {
+    match shape {
+        ShapeDesc::Mesh { .. } => 3f64.sqrt(),
+        _ => 1.0,
+    }
+}
