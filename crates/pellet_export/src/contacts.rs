@@ -16,7 +16,9 @@
 //!   the true gap by at most one edge length;
 //! - **other pellets against the wall**: `R − max ρ` over the mesh's
 //!   vertices, exact for the mesh (the distance from the axis is convex, so
-//!   its maximum over a polyhedron is at a vertex).
+//!   its maximum over a polyhedron is at a vertex);
+//! - **against the floor** (z = 0): the pellet's lowest point, exact for
+//!   closed forms, the lowest mesh vertex otherwise (exact for the mesh).
 //!
 //! Each contact carries the nearest points and the unit normal from the
 //! first pellet towards its partner, which place bridges and caps.
@@ -33,6 +35,8 @@ pub enum Partner {
     Pellet(usize),
     /// The tube wall.
     Wall,
+    /// The floor, z = 0.
+    Floor,
 }
 
 /// A pair of surfaces closer than the threshold.
@@ -89,13 +93,32 @@ pub fn find_contacts(bed: &Bed, indices: &[usize], gap: Real) -> Vec<Contact> {
         indices.iter().filter_map(|&i| wall(bed, i, radius)).filter(|c| c.gap < gap).collect();
     walls.sort_by_key(|c| c.pellet);
     found.extend(walls);
+    let mut floors: Vec<Contact> = indices.iter().map(|&i| floor(bed, i)).filter(|c| c.gap < gap).collect();
+    floors.sort_by_key(|c| c.pellet);
+    found.extend(floors);
     found
+}
+
+/// The gap between pellet `i` and the floor z = 0.
+fn floor(bed: &Bed, i: usize) -> Contact {
+    let pose = &bed.pellets[i];
+    let pellet = type_of(bed, pose);
+    let lowest = pellet.mesh.vertices.iter().map(|v| pose.to_world(v)).min_by(|a, b| a.z.total_cmp(&b.z));
+    let mut point = lowest.unwrap_or_else(|| pose.centre());
+    if pellet.closed_form.is_some() {
+        point.z = pose.position[2] - pellet_analysis::half_extent_z(pellet, pose);
+        if let Some(ClosedForm::Sphere { .. }) = pellet.closed_form {
+            (point.x, point.y) = (pose.position[0], pose.position[1]);
+        }
+    }
+    let partner_point = Point::new(point.x, point.y, 0.0);
+    Contact { pellet: i, partner: Partner::Floor, gap: point.z, point, partner_point, normal: -Vector::z() }
 }
 
 fn partner_index(c: &Contact) -> usize {
     match c.partner {
         Partner::Pellet(j) => j,
-        Partner::Wall => usize::MAX,
+        Partner::Wall | Partner::Floor => usize::MAX,
     }
 }
 
@@ -251,7 +274,7 @@ mod tests {
         let pairs: Vec<_> = contacts.iter().map(|c| (c.pellet, c.partner)).collect();
         assert_eq!(
             pairs,
-            [(0, Partner::Pellet(1)), (0, Partner::Wall), (1, Partner::Wall), (2, Partner::Wall)],
+            [(0, Partner::Pellet(1)), (0, Partner::Wall), (1, Partner::Wall), (2, Partner::Wall), (0, Partner::Floor)],
             "{contacts:?}"
         );
         assert!((contacts[0].gap - 0.05e-3).abs() < 1e-9, "{}", contacts[0].gap);
@@ -264,7 +287,7 @@ mod tests {
     fn mesh_only_pellets_use_vertex_distances() {
         let mut s = Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution::default()).unwrap();
         s.closed_form = None;
-        let b = bed(s, &[[0.0, 0.0, 5.0], [0.0, 0.0, 15.1]], 40.0);
+        let b = bed(s, &[[0.0, 0.0, 6.0], [0.0, 0.0, 16.1]], 40.0);
         let c = find_contacts(&b, &[0, 1], 0.5e-3);
         assert_eq!(c.len(), 1);
         // The poles are vertices of the Fibonacci sphere? Either way: within one edge of 0.1 mm.

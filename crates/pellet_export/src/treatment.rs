@@ -12,8 +12,9 @@
 //!   beyond a plane are moved onto it) so that a gap of a given width
 //!   remains between two flat faces.
 //!
-//! The same applies to pellet–wall contacts (a bridge then runs into the
-//! wall; a cap flattens the pellet parallel to the wall's tangent plane).
+//! The same applies to pellet–wall and pellet–floor contacts (a bridge then
+//! runs into the wall or floor; a cap flattens the pellet parallel to the
+//! wall's tangent plane or the floor).
 //! Shrink can be combined with either bridges or caps (it is applied first);
 //! bridges and caps exclude each other. Each treatment reports how many
 //! contacts it treated and the porosity change it causes, −ΔV_solid over
@@ -61,6 +62,8 @@ pub struct TreatmentLine {
     pub pellet_contacts: usize,
     /// Pellet–wall contacts treated.
     pub wall_contacts: usize,
+    /// Pellet–floor contacts treated.
+    pub floor_contacts: usize,
     /// Change of the porosity of the exported range, −ΔV_solid / V_range.
     pub porosity_change: Real,
     /// The parameters, for the report.
@@ -107,9 +110,11 @@ pub fn scaled_pellet(pellet: &Pellet, factor: Real) -> Pellet {
     p
 }
 
-fn count(contacts: &[&Contact]) -> (usize, usize) {
-    let wall = contacts.iter().filter(|c| c.partner == Partner::Wall).count();
-    (contacts.len() - wall, wall)
+/// (pellet–pellet, pellet–wall, pellet–floor) contacts.
+fn count(contacts: &[Contact]) -> (usize, usize, usize) {
+    let of = |p: Partner| contacts.iter().filter(|c| c.partner == p).count();
+    let (wall, floor) = (of(Partner::Wall), of(Partner::Floor));
+    (contacts.len() - wall - floor, wall, floor)
 }
 
 /// Applies `treatment` to the pellets `indices` of `bed`, exported over
@@ -142,11 +147,12 @@ pub fn apply(
         };
         let removed: Real = indices.iter().map(|&i| slab(bed, i) - slab(&treated_bed, i)).sum();
         let opened = find_contacts(bed, indices, detect_gap);
-        let (pellet_contacts, wall_contacts) = count(&opened.iter().collect::<Vec<_>>());
+        let (pellet_contacts, wall_contacts, floor_contacts) = count(&opened);
         report.lines.push(TreatmentLine {
             name: "shrink",
             pellet_contacts,
             wall_contacts,
+            floor_contacts,
             porosity_change: removed / range_volume,
             parameters: format!("factor {f}; contacts counted below a gap of {:.4} mm", detect_gap * 1e3),
         });
@@ -168,12 +174,13 @@ pub fn apply(
             let added_volume = bridge_volume_outside(&treated_bed, c, 0.5 * diameter, range);
             bridges.push(Bridge { contact: *c, mesh, added_volume });
         }
-        let (pellet_contacts, wall_contacts) = count(&contacts.iter().collect::<Vec<_>>());
+        let (pellet_contacts, wall_contacts, floor_contacts) = count(&contacts);
         let added: Real = bridges.iter().map(|b| b.added_volume).sum();
         report.lines.push(TreatmentLine {
             name: "bridges",
             pellet_contacts,
             wall_contacts,
+            floor_contacts,
             porosity_change: -added / range_volume,
             parameters: format!(
                 "surfaces closer than {:.4} mm joined by cylinders of {:.4} mm",
@@ -192,7 +199,7 @@ pub fn apply(
             // Each surface keeps to its side of a plane, `gap` apart in all.
             let (offset_own, offset_partner) = match c.partner {
                 Partner::Pellet(_) => (c.normal.dot(&mid.coords) - 0.5 * gap, -c.normal.dot(&mid.coords) - 0.5 * gap),
-                Partner::Wall => (c.normal.dot(&c.partner_point.coords) - gap, 0.0),
+                Partner::Wall | Partner::Floor => (c.normal.dot(&c.partner_point.coords) - gap, 0.0),
             };
             flatten(&mut meshes[slot[&c.pellet]], &c.normal, offset_own);
             if let Partner::Pellet(j) = c.partner {
@@ -200,11 +207,12 @@ pub fn apply(
             }
         }
         let after: Real = meshes.iter().map(enclosed_volume).sum();
-        let (pellet_contacts, wall_contacts) = count(&contacts.iter().collect::<Vec<_>>());
+        let (pellet_contacts, wall_contacts, floor_contacts) = count(&contacts);
         report.lines.push(TreatmentLine {
             name: "caps",
             pellet_contacts,
             wall_contacts,
+            floor_contacts,
             porosity_change: (before - after) / range_volume,
             parameters: format!("surfaces closer than {:.4} mm flattened to leave {:.4} mm", gap * 1e3, gap * 1e3),
         });
@@ -368,7 +376,7 @@ mod tests {
         let gaps = [0.0, 0.05, 0.15, 0.25, 0.4];
         let mut centres = Vec::new();
         for (k, g) in gaps.iter().enumerate() {
-            let z = 5.0 + 12.0 * k as Real;
+            let z = 6.0 + 12.0 * k as Real;
             centres.push([-10.0, 0.0, z]);
             centres.push([-10.0 + 10.0 + g, 0.0, z]);
         }
@@ -404,16 +412,18 @@ mod tests {
         let shrink =
             apply(&bed, &all, (0.0, 0.02), &Treatment { shrink: Some(0.99), ..Default::default() }, 1e-4).unwrap();
         let line = &shrink.report.lines[0];
-        // One pellet pair touching, one pellet 1 mm from the wall (not counted at 0.1 mm).
-        assert_eq!((line.pellet_contacts, line.wall_contacts), (1, 0));
+        // One pellet pair touching, one pellet 1 mm from the wall (not counted at 0.1 mm), two on the floor.
+        assert_eq!((line.pellet_contacts, line.wall_contacts, line.floor_contacts), (1, 0, 2));
         let volume: Real = bed.pellet_types[0].properties.volume;
         let expected = 3.0 * volume * (1.0 - 0.99f64.powi(3)) / shrink.report.range_volume;
         assert!((line.porosity_change - expected).abs() < 1e-9 * expected.abs().max(1.0), "{line:?} vs {expected}");
         let caps =
             apply(&bed, &all, (0.0, 0.02), &Treatment { caps: Some(0.1e-3), ..Default::default() }, 1e-4).unwrap();
         let line = &caps.report.lines[0];
-        assert_eq!((line.pellet_contacts, line.wall_contacts), (1, 0));
+        assert_eq!((line.pellet_contacts, line.wall_contacts, line.floor_contacts), (1, 0, 2));
         assert!(line.porosity_change > 0.0);
+        let lowest = caps.meshes[2].vertices.iter().map(|v| v.z).fold(Real::MAX, Real::min);
+        assert!(lowest >= 0.1e-3 - 1e-12, "{lowest}");
         // The flattened spheres are 0.1 mm apart: top of the lower at ≤ 9.95 mm, bottom of the upper ≥ 10.05.
         let top = caps.meshes[0].vertices.iter().map(|v| v.z).fold(Real::MIN, Real::max);
         let bottom = caps.meshes[1].vertices.iter().map(|v| v.z).fold(Real::MAX, Real::min);

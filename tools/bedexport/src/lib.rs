@@ -284,9 +284,11 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         };
         let quiet = args.quiet;
         let mut last = 0;
+        let started = std::time::Instant::now();
+        // Progress only when the grid takes long enough to wait for.
         let mut progress = |done: usize, total: usize| {
             let tenth = 10 * done / total.max(1);
-            if !quiet && tenth > last {
+            if !quiet && tenth > last && started.elapsed().as_secs_f64() > 1.0 {
                 last = tenth;
                 eprintln!("bedexport: voxels: {}% ({done}/{total} pellets)", 10 * tenth);
             }

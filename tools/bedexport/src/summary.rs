@@ -19,8 +19,13 @@ pub fn text(e: &Exported) -> String {
     for line in &e.report.lines {
         let _ = writeln!(
             s,
-            "{}: {} pellet-pellet and {} pellet-wall contacts treated; porosity change {:+.5} ({})",
-            line.name, line.pellet_contacts, line.wall_contacts, line.porosity_change, line.parameters
+            "{}: {} pellet-pellet, {} pellet-wall and {} pellet-floor contacts treated; porosity change {:+.5} ({})",
+            line.name,
+            line.pellet_contacts,
+            line.wall_contacts,
+            line.floor_contacts,
+            line.porosity_change,
+            line.parameters
         );
     }
     if let Some((grid, exact, dp)) = &e.voxels {

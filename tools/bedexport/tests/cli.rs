@@ -267,10 +267,10 @@ fn stdin_stdout_units_treatments_and_per_pellet_solids() {
     assert_ok(&out);
     let text = String::from_utf8_lossy(&out.stdout);
     // 9 spheres per layer on a 3 × 3 square: 12 touching pairs in each of
-    // the 2 layers, 9 between them; none within 0.1 mm of the wall. Shrunk
-    // by 1 %, no gap is under 0.01 mm.
-    assert!(text.contains("shrink: 33 pellet-pellet and 0 pellet-wall"), "{text}");
-    assert!(text.contains("bridges: 0 pellet-pellet and 0 pellet-wall"), "{text}");
+    // the 2 layers, 9 between them; none within 0.1 mm of the wall; the
+    // bottom 9 on the floor. Shrunk by 1 %, no gap is under 0.01 mm.
+    assert!(text.contains("shrink: 33 pellet-pellet, 0 pellet-wall and 9 pellet-floor"), "{text}");
+    assert!(text.contains("bridges: 0 pellet-pellet, 0 pellet-wall and 0 pellet-floor"), "{text}");
     let out = bedexport(
         dir.path(),
         &["bed.packing", "--stl", "b.stl", "--ascii", "--solids", "per-pellet", "--bridge-gap", "0.01"],
@@ -278,10 +278,10 @@ fn stdin_stdout_units_treatments_and_per_pellet_solids() {
     );
     assert_ok(&out);
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("bridges: 33 pellet-pellet and 0 pellet-wall"), "{text}");
+    assert!(text.contains("bridges: 33 pellet-pellet, 0 pellet-wall and 9 pellet-floor"), "{text}");
     let stl = std::fs::read_to_string(dir.path().join("b.stl")).unwrap();
     assert_eq!(stl.matches("endsolid pellet_").count(), 18);
-    assert_eq!(stl.matches("endsolid bridge_").count(), 33);
+    assert_eq!(stl.matches("endsolid bridge_").count(), 42);
 }
 
 #[test]
