@@ -13,7 +13,10 @@
 //!   of the mesh between vertices (edge-to-edge contacts);
 //! - **pairs without closed forms** (lobed, multi-hole, user meshes): the
 //!   smallest distance between the two meshes' vertices, which overestimates
-//!   the true gap by at most one edge length;
+//!   the true gap by at most one edge length; the contact's normal is the
+//!   mean of the two surfaces' vertex normals and its points each mesh's
+//!   extreme vertex along it (refined twice), which places bridges and caps
+//!   within about an edge of the true contact;
 //! - **other pellets against the wall**: `R − max ρ` over the mesh's
 //!   vertices, exact for the mesh (the distance from the axis is convex, so
 //!   its maximum over a polyhedron is at a vertex);
@@ -167,19 +170,54 @@ fn pair(bed: &Bed, a: usize, b: usize) -> Option<Contact> {
         _ => {
             let verts_a = world_vertices_near(ta, pa, pb.centre(), tb.bounding_radius);
             let verts_b = world_vertices_near(tb, pb, pa.centre(), ta.bounding_radius);
-            let mut best: Option<(Real, Point, Point)> = None;
-            for va in &verts_a {
-                for vb in &verts_b {
+            let mut best: Option<(Real, usize, usize)> = None;
+            for (ia, va) in &verts_a {
+                for (ib, vb) in &verts_b {
                     let d = (vb - va).norm();
                     if best.is_none_or(|(bd, _, _)| d < bd) {
-                        best = Some((d, *va, *vb));
+                        best = Some((d, *ia, *ib));
                     }
                 }
             }
-            let (d, va, vb) = best?;
-            let n = if d > 0.0 { (vb - va) / d } else { along_centres() };
+            let (d, mut ia, mut ib) = best?;
+            // The nearest vertices can sit well to the side of the contact
+            // (about an edge): the normal is the mean of the two surfaces'
+            // vertex normals, and the points are refined to each mesh's
+            // extreme vertex along it (the contact point of smooth convex
+            // surfaces), twice.
+            let normal_at = |ia: usize, ib: usize| {
+                let n = pa.rotation() * vertex_normal(&ta.mesh, ia) - pb.rotation() * vertex_normal(&tb.mesh, ib);
+                if n.norm() > 0.0 {
+                    n.normalize()
+                } else {
+                    along_centres()
+                }
+            };
+            let mut n = normal_at(ia, ib);
+            for _ in 0..2 {
+                let extreme = |verts: &[(usize, Point)], sign: Real| {
+                    verts
+                        .iter()
+                        .max_by(|x, y| (sign * n.dot(&x.1.coords)).total_cmp(&(sign * n.dot(&y.1.coords))))
+                        .map(|v| v.0)
+                };
+                (ia, ib) = (extreme(&verts_a, 1.0)?, extreme(&verts_b, -1.0)?);
+                n = normal_at(ia, ib);
+            }
+            let (va, vb) = (pa.to_world(&ta.mesh.vertices[ia]), pb.to_world(&tb.mesh.vertices[ib]));
             Some(contact(d, va, vb, n))
         }
+    }
+}
+
+/// The area-weighted mean normal of the triangles around vertex `v` (unit).
+fn vertex_normal(mesh: &pellet_geom::TriMesh, v: usize) -> Vector {
+    let sum: Vector =
+        (0..mesh.face_count()).filter(|&t| mesh.triangles[t].contains(&(v as u32))).map(|t| mesh.area_normal(t)).sum();
+    if sum.norm() > 0.0 {
+        sum.normalize()
+    } else {
+        sum
     }
 }
 
@@ -213,10 +251,18 @@ fn nearest_vertex(
     Some((d, pose.to_world(&body), pose.rotation() * normal_body))
 }
 
-/// World vertices of `pellet` at `pose` within `reach` (plus a margin) of `centre`.
-fn world_vertices_near(pellet: &Pellet, pose: &PlacedPellet, centre: Point, reach: Real) -> Vec<Point> {
+/// (index, world position) of the vertices of `pellet` at `pose` within
+/// `reach` (plus a margin) of `centre`.
+fn world_vertices_near(pellet: &Pellet, pose: &PlacedPellet, centre: Point, reach: Real) -> Vec<(usize, Point)> {
     let limit = reach * 1.05;
-    pellet.mesh.vertices.iter().map(|v| pose.to_world(v)).filter(|w| (w - centre).norm() <= limit).collect()
+    pellet
+        .mesh
+        .vertices
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (i, pose.to_world(v)))
+        .filter(|(_, w)| (w - centre).norm() <= limit)
+        .collect()
 }
 
 /// The gap between pellet `i` and the wall of radius `radius`.

@@ -282,6 +282,24 @@ fn stdin_stdout_units_treatments_and_per_pellet_solids() {
     let stl = std::fs::read_to_string(dir.path().join("b.stl")).unwrap();
     assert_eq!(stl.matches("endsolid pellet_").count(), 18);
     assert_eq!(stl.matches("endsolid bridge_").count(), 42);
+    // The pellet solids, parsed by hand (stl_io reads only an ASCII file's first solid), hold 18 pellets' volume.
+    let (mut solid, mut corners, mut pellet_volume) = (String::new(), Vec::new(), 0.0);
+    for line in stl.lines().map(str::trim) {
+        if let Some(name) = line.strip_prefix("solid ") {
+            solid = name.to_string();
+        } else if let Some(v) = line.strip_prefix("vertex ") {
+            let c: Vec<f64> = v.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            corners.push(Point::new(c[0], c[1], c[2]));
+            if corners.len() == 3 {
+                if solid.starts_with("pellet_") {
+                    pellet_volume += corners[0].coords.dot(&corners[1].coords.cross(&corners[2].coords)) / 6.0;
+                }
+                corners.clear();
+            }
+        }
+    }
+    let expected = 18.0 * bed.pellet_types[0].properties.volume * 1e9;
+    assert!((pellet_volume / expected - 1.0).abs() < 1e-6, "{pellet_volume} vs {expected}");
 }
 
 #[test]
