@@ -54,7 +54,10 @@ fn main() {
         time(name, &mut || {
             let r = apply(&bed, &all, range, &t, 1e-4).unwrap();
             let l = &r.report.lines[0];
-            format!("{} + {} contacts, porosity change {:+.5}", l.pellet_contacts, l.wall_contacts, l.porosity_change)
+            format!(
+                "{} pellet, {} wall, {} floor contacts; porosity change {:+.5}",
+                l.pellet_contacts, l.wall_contacts, l.floor_contacts, l.porosity_change
+            )
         });
     }
     for per_dp in [10.0, 20.0] {
