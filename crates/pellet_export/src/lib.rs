@@ -25,6 +25,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod clip;
 pub mod contacts;
 pub mod poses;
 pub mod scene;

@@ -11,11 +11,22 @@ pub fn axial_range(bed: &Bed, window: Option<(Real, Real)>) -> (Real, Real) {
 }
 
 /// Indices of the pellets whose centroid lies in `[z0, z1)` (all of them
-/// without a window). Pellets are kept whole: a pellet is in or out, never
-/// cut, so every exported surface stays closed.
+/// without a window): the pellets to export whole.
 pub fn select(bed: &Bed, window: Option<(Real, Real)>) -> Vec<usize> {
     (0..bed.pellets.len())
         .filter(|&i| window.is_none_or(|(z0, z1)| (z0..z1).contains(&bed.pellets[i].position[2])))
+        .collect()
+}
+
+/// Indices of the pellets with any part strictly between z0 and z1: the
+/// pellets to export cut to the window ([`crate::clip::clip_to_slab`]).
+pub fn select_overlapping(bed: &Bed, window: (Real, Real)) -> Vec<usize> {
+    (0..bed.pellets.len())
+        .filter(|&i| {
+            let pose = &bed.pellets[i];
+            let h = pellet_analysis::half_extent_z(&bed.pellet_types[pose.type_index as usize], pose);
+            pose.position[2] + h > window.0 && pose.position[2] - h < window.1
+        })
         .collect()
 }
 

@@ -10,7 +10,7 @@ use serde_json::json;
 use pellet_analysis::{bulk_porosity, reference_diameters, Geometry};
 use pellet_cli::{positive_mm, Outcome};
 use pellet_export::treatment::{self, Treatment};
-use pellet_export::{poses, scene, stl, voxels, vtk};
+use pellet_export::{clip, poses, scene, stl, voxels, vtk};
 use pellet_io::OutputFile;
 
 mod summary;
@@ -113,9 +113,12 @@ pub struct Args {
     /// Length unit of the files.
     #[arg(long, value_enum, default_value = "mm")]
     pub units: Units,
-    /// Export only pellets whose centroid is in z0,z1 (mm); voxels and tube span it [default: floor to bed top].
+    /// Export the slab z0 ≤ z ≤ z1 (mm): pellets cut at the planes and capped; voxels and tube span it [default: floor to bed top].
     #[arg(long, value_name = "Z0,Z1", allow_hyphen_values = true)]
     pub window: Option<String>,
+    /// With --window: export whole the pellets whose centroid is in the window, instead of cutting.
+    #[arg(long, requires = "window")]
+    pub whole_pellets: bool,
     /// Scale every pellet about its centroid by this factor (e.g. 0.99) to open the contacts.
     #[arg(long, value_name = "FACTOR")]
     pub shrink: Option<f64>,
@@ -163,8 +166,12 @@ pub fn parse_window(text: &str) -> anyhow::Result<(f64, f64)> {
 pub struct Exported {
     /// Pellets in the bed.
     pub pellets: usize,
-    /// Pellets exported (centroid in the window).
+    /// Pellets exported.
     pub selected: usize,
+    /// Pellets cut at the window's planes.
+    pub cut: usize,
+    /// Whether whole pellets were selected by their centroid.
+    pub whole: bool,
     /// The axial range (m).
     pub range: (f64, f64),
     /// Triangles written to the pellet surface files.
@@ -206,9 +213,16 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let window = args.window.as_deref().map(parse_window).transpose()?;
     let optional = |flag: &str, v: Option<f64>| v.map(|v| positive_mm(flag, v).map(|v| v * MM)).transpose();
     let range = scene::axial_range(&bed, window);
-    let selected = scene::select(&bed, window);
+    let selected = match window {
+        Some(w) if !args.whole_pellets => scene::select_overlapping(&bed, w),
+        _ => scene::select(&bed, window),
+    };
     if selected.is_empty() {
-        bail!("no pellet has its centroid in --window {}", args.window.as_deref().unwrap_or(""));
+        bail!(
+            "no pellet lies in --window {} (the bed is {:.3} mm high)",
+            args.window.as_deref().unwrap_or(""),
+            pellet_analysis::bed_top(&bed) * 1e3
+        );
     }
     let bridge_gap = optional("--bridge-gap", args.bridge_gap)?;
     let bridge_diameter = optional("--bridge-diameter", args.bridge_diameter)?.unwrap_or(dp / 5.0);
@@ -228,10 +242,27 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         files.push((what.to_string(), path.clone()));
         outputs.push(OutputFile { path: path.clone(), bytes, binary, what: what.into() });
     };
-    let bridge_meshes: Vec<&pellet_geom::TriMesh> = treated.bridges.iter().map(|b| &b.mesh).collect();
+    // Every surface to write: (pellet id or −1 for a bridge, solid name, mesh), cut to the window unless whole.
+    let mut surfaces: Vec<(i32, String, pellet_geom::TriMesh)> = selected
+        .iter()
+        .zip(treated.meshes)
+        .map(|(&i, m)| (i as i32, format!("pellet_{i:05}"), m))
+        .chain(treated.bridges.into_iter().enumerate().map(|(k, b)| (-1, format!("bridge_{k:05}"), b.mesh)))
+        .collect();
+    let mut cut = 0;
+    if let (Some((z0, z1)), false) = (window, args.whole_pellets) {
+        let mut kept = Vec::with_capacity(surfaces.len());
+        for (id, name, mesh) in surfaces {
+            if let Some(clipped) = clip::clip_to_slab(&mesh, z0, z1).with_context(|| name.clone())? {
+                cut += usize::from(clipped != mesh && id >= 0);
+                kept.push((id, name, clipped));
+            }
+        }
+        surfaces = kept;
+    }
     let mut triangles = 0;
     if let Some(path) = &args.stl {
-        let all: Vec<&pellet_geom::TriMesh> = treated.meshes.iter().chain(bridge_meshes.iter().copied()).collect();
+        let all: Vec<&pellet_geom::TriMesh> = surfaces.iter().map(|s| &s.2).collect();
         triangles = all.iter().map(|m| m.face_count()).sum();
         let bytes = match (args.ascii, args.solids) {
             (false, _) => stl::binary(&all, scale, &provenance),
@@ -245,9 +276,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
                 stl::ascii(&[("pellets".to_string(), &merged)], scale)
             }
             (true, Solids::PerPellet) => {
-                let mut solids: Vec<(String, &pellet_geom::TriMesh)> =
-                    selected.iter().zip(&treated.meshes).map(|(i, m)| (format!("pellet_{i:05}"), m)).collect();
-                solids.extend(bridge_meshes.iter().enumerate().map(|(k, m)| (format!("bridge_{k:05}"), *m)));
+                let solids: Vec<(String, &pellet_geom::TriMesh)> =
+                    surfaces.iter().map(|s| (s.1.clone(), &s.2)).collect();
                 stl::ascii(&solids, scale)
             }
         };
@@ -263,9 +293,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         push(path, bytes, !args.ascii, "tube STL");
     }
     if let Some(path) = &args.vtk {
-        let mut meshes: Vec<(i32, &pellet_geom::TriMesh)> =
-            selected.iter().zip(&treated.meshes).map(|(&i, m)| (i as i32, m)).collect();
-        meshes.extend(bridge_meshes.iter().map(|m| (-1, *m)));
+        let meshes: Vec<(i32, &pellet_geom::TriMesh)> = surfaces.iter().map(|s| (s.0, &s.2)).collect();
         push(path, vtk::polydata(&meshes, scale, &provenance), false, "pellet VTK");
     }
     if let Some(path) = &args.vtk_centres {
@@ -322,6 +350,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let exported = Exported {
         pellets: bed.pellets.len(),
         selected: selected.len(),
+        cut,
+        whole: window.is_none() || args.whole_pellets,
         range,
         triangles,
         report: treated.report,

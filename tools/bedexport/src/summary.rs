@@ -9,7 +9,15 @@ use crate::Exported;
 pub fn text(e: &Exported) -> String {
     let mut s = String::new();
     let (z0, z1) = (e.range.0 * 1e3, e.range.1 * 1e3);
-    let _ = writeln!(s, "pellets: {} of {} (centroid in {z0:.3} to {z1:.3} mm)", e.selected, e.pellets);
+    if e.whole {
+        let _ = writeln!(s, "pellets: {} of {} (centroid in {z0:.3} to {z1:.3} mm)", e.selected, e.pellets);
+    } else {
+        let _ = writeln!(
+            s,
+            "pellets: {} of {} in {z0:.3} to {z1:.3} mm, {} of them cut at the planes and capped",
+            e.selected, e.pellets, e.cut
+        );
+    }
     for (what, path) in &e.files {
         let _ = writeln!(s, "wrote {what}: {path}");
     }

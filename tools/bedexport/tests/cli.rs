@@ -206,6 +206,42 @@ fn every_format_reads_back_to_the_same_pellets_and_volume() {
 }
 
 #[test]
+fn a_window_cuts_and_caps_the_pellets_to_the_exact_slab_volume() {
+    let dir = tempfile::tempdir().unwrap();
+    let ring = Pellet::build(
+        ShapeSpec::Ring { outer_diameter_mm: 10.0, inner_diameter_mm: 6.0, height_mm: 10.0 },
+        Resolution::default(),
+    )
+    .unwrap();
+    let bed = random_placement(&ring, 40.0 * MM, 50.0 * MM, 20, 4);
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
+    let out = bedexport(
+        dir.path(),
+        &["bed.packing", "--stl", "cut.stl", "--tube-stl", "tube.stl", "--window", "10,30", "--vtk", "cut.vtp"],
+        None,
+    );
+    assert_ok(&out);
+    let summary = String::from_utf8_lossy(&out.stdout);
+    assert!(summary.contains("cut at the planes and capped"), "{summary}");
+    let stl = read_stl(&dir.path().join("cut.stl"));
+    stl.check_closed().unwrap();
+    assert!(stl.vertices.iter().all(|v| v.z >= 10.0 - 1e-4 && v.z <= 30.0 + 1e-4));
+    // The surfaces enclose exactly the pellet volume between the planes: voidprof's bulk porosity on the mesh.
+    let bulk = bulk_porosity(&bed, (0.010, 0.030), Geometry::Mesh).unwrap();
+    let from_stl = 1.0 - volume(&stl) * 1e-9 / bulk.window_volume;
+    assert!((from_stl - bulk.porosity).abs() < 1e-5, "{from_stl} vs {}", bulk.porosity);
+    let tube = read_stl(&dir.path().join("tube.stl"));
+    assert!(tube.vertices.iter().all(|v| v.z == 10.0 || v.z == 30.0 || v.x.hypot(v.y) < 1e-9));
+    // Whole pellets by centroid instead: closed, uncut, one component each.
+    let whole =
+        bedexport(dir.path(), &["bed.packing", "--stl", "whole.stl", "--window", "10,30", "--whole-pellets"], None);
+    assert_ok(&whole);
+    let whole_stl = read_stl(&dir.path().join("whole.stl"));
+    let inside = bed.pellets.iter().filter(|p| (0.010..0.030).contains(&p.position[2])).count();
+    assert_eq!(whole_stl.check_closed().unwrap().components, inside);
+}
+
+#[test]
 fn voxel_porosity_converges_to_voidprofs_exact_porosity() {
     let dir = tempfile::tempdir().unwrap();
     let sphere = Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution::default()).unwrap();
@@ -317,7 +353,7 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
         (&["bed.packing", "--stl", "o.stl", "--solids", "per-pellet"], "needs --ascii"),
         (&["bed.packing", "--stl", "o.stl", "--shrink", "2"], "--shrink must be 0.5 to 1"),
         (&["bed.packing", "--stl", "o.stl", "--window", "abc"], "--window"),
-        (&["bed.packing", "--stl", "o.stl", "--window", "200,300"], "no pellet has its centroid"),
+        (&["bed.packing", "--stl", "o.stl", "--window", "200,300"], "no pellet lies in --window"),
         (&["bed.packing", "--voxels", "o.raw", "--voxel-size", "0"], "--voxel-size must be a finite number > 0"),
         (&["bed.packing", "--voxels", "o.raw", "--voxels-per-dp", "-3"], "--voxels-per-dp"),
         (&["bed.packing", "--voxels", "o.raw", "--voxel-size", "0.001"], "choose larger voxels"),
@@ -330,7 +366,12 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
         assert_error(&out, needle);
     }
     assert!(!dir.path().join("o.stl").exists() && !dir.path().join("o.raw").exists());
+    // Usage errors (clap's own messages) exit 2 too.
     assert_eq!(bedexport(dir.path(), &["--no-such-flag"], None).status.code(), Some(2));
+    assert_eq!(
+        bedexport(dir.path(), &["bed.packing", "--stl", "o.stl", "--whole-pellets"], None).status.code(),
+        Some(2)
+    );
     let help = bedexport(dir.path(), &["--help"], None);
     assert_ok(&help);
     assert!(String::from_utf8_lossy(&help.stdout).contains("x fastest"));
