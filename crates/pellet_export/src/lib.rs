@@ -9,6 +9,7 @@
 //! (1000 for millimetres, 1 for metres) applied to every coordinate.
 //!
 //! - [`scene`]: the pellets' world meshes, the tube surface, the axial window.
+//! - [`clip`]: closed meshes cut at horizontal planes and capped (slabs of a bed).
 //! - [`contacts`]: pellet–pellet and pellet–wall gaps below a threshold.
 //! - [`treatment`]: global shrink, bridges and caps, with the porosity change of each.
 //! - [`stl`], [`vtk`], [`voxels`], [`poses`]: the file formats (specified in each module).

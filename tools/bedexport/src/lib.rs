@@ -24,6 +24,7 @@ Examples:
   bedexport bed.packing --stl bed.stl --ascii --solids per-pellet --bridge-gap 0.1 --bridge-diameter 2
   bedexport bed.packing --vtk bed.vtp --vtk-centres centres.vtp --csv poses.csv
   bedexport bed.packing --voxels bed.raw --voxel-size 0.5 --vti bed.vti --window 0,100
+  bedexport bed.packing --stl slab.stl --tube-stl tube.stl --window 20,60    # pellets cut and capped
   settle-check run.mcap -o - | bedexport - --stl bed.stl
 
 Lengths in flags are in mm; files are in --units (mm by default). The raw
