@@ -242,6 +242,39 @@ fn a_window_cuts_and_caps_the_pellets_to_the_exact_slab_volume() {
 }
 
 #[test]
+fn shapes_without_closed_forms_export_with_every_treatment() {
+    // Trilobes have no closed form: gaps from mesh vertices, voxels and bridge volumes from mesh crossings.
+    let dir = tempfile::tempdir().unwrap();
+    let trilobe = Pellet::build(
+        ShapeSpec::Lobed { lobes: 3, lobe_diameter_mm: 4.0, size_mm: 7.5, height_mm: 8.0 },
+        Resolution::default(),
+    )
+    .unwrap();
+    assert!(trilobe.closed_form.is_none());
+    let bed = random_placement(&trilobe, 30.0 * MM, 40.0 * MM, 25, 2);
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
+    // Random placement keeps bounding spheres apart: a 2 mm gap still finds neighbours.
+    for treatment in [&["--bridge-gap", "2", "--shrink", "0.99"][..], &["--cap-gap", "2"][..]] {
+        let args =
+            [&["bed.packing", "--stl", "t.stl", "--voxels", "t.raw", "--window", "5,30"][..], treatment].concat();
+        let out = bedexport(dir.path(), &args, None);
+        assert_ok(&out);
+        let text = String::from_utf8_lossy(&out.stdout);
+        let treated: usize = text
+            .lines()
+            .filter(|l| l.starts_with("bridges:") || l.starts_with("caps:"))
+            .map(|l| l.split_whitespace().nth(1).unwrap().trim_end_matches(',').parse::<usize>().unwrap())
+            .sum();
+        assert!(treated > 0, "{text}");
+        read_stl(&dir.path().join("t.stl")).check_closed().unwrap();
+        let header: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.path().join("t.raw.json")).unwrap()).unwrap();
+        let (voxel, exact) = (header["porosity"].as_f64().unwrap(), header["exact_porosity"].as_f64().unwrap());
+        assert!((voxel - exact).abs() < 0.01, "{voxel} vs {exact}");
+    }
+}
+
+#[test]
 fn voxel_porosity_converges_to_voidprofs_exact_porosity() {
     let dir = tempfile::tempdir().unwrap();
     let sphere = Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution::default()).unwrap();
