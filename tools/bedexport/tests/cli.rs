@@ -314,6 +314,11 @@ fn stdin_stdout_units_treatments_and_per_pellet_solids() {
     std::fs::write(dir.path().join("m.stl"), &piped.stdout).unwrap();
     let (m, mm) = (read_stl(&dir.path().join("m.stl")), read_stl(&dir.path().join("mm.stl")));
     assert!((volume(&m) * 1e9 / volume(&mm) - 1.0).abs() < 1e-5);
+    // ASCII, merged into one solid: stl_io reads it whole.
+    assert_ok(&bedexport(dir.path(), &["bed.packing", "--stl", "merged.stl", "--ascii"], None));
+    let merged = read_stl(&dir.path().join("merged.stl"));
+    assert_eq!(merged.check_closed().unwrap().components, 18);
+    assert!((volume(&merged) / volume(&mm) - 1.0).abs() < 1e-6);
     // The summary goes to stderr when the STL goes to stdout.
     assert!(String::from_utf8_lossy(&piped.stderr).contains("pellets: 18 of 18"));
     // Simple-cubic spheres touch their neighbours: bridges join every touching pair.
