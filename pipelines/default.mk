@@ -1,7 +1,8 @@
 # The default pipeline, run by `make`: the paper's three pellets
 # (Mohammadzadeh Moghaddam et al. 2018, Table 3) made and described, then a
 # small sphere bed taken through the whole chain:
-# mkpellet → pack → settle-check → voidprof → compare.
+# mkpellet → pack → settle-check → voidprof → compare, and bedexport last
+# (under a second): the bed as STL, VTK and voxels for CFD / LBM codes.
 BIN ?= target/release
 OUT ?= out
 
@@ -12,10 +13,11 @@ BED_ARGS := --tube-diameter 40 --count 40 --seed 1
 WINDOW := 0,25
 
 .PHONY: all pellets
-all: pellets $(OUT)/report/scores.json
+all: pellets $(OUT)/report/scores.json $(OUT)/bed.stl
 	@echo "== scores ($(OUT)/report/scores.json)"
 	@cat $(OUT)/report/scores.csv
 	@echo "== plot: $(OUT)/report/profile.png (also .svg); report: $(OUT)/report/report.md"
+	@echo "== CFD/LBM export: $(OUT)/bed.stl, $(OUT)/tube.stl (mm), $(OUT)/bed.vtp, $(OUT)/bed.raw (+ .json)"
 
 pellets: $(PELLETS)
 	@for p in $(PELLETS); do echo "== $$p"; $(BIN)/mkpellet info $$p || exit 2; done
@@ -43,3 +45,7 @@ $(OUT)/profile.csv: $(OUT)/bed.packing $(BIN)/voidprof
 
 $(OUT)/report/scores.json: $(OUT)/profile.csv $(BIN)/compare
 	$(BIN)/compare --profile $< --summary $(OUT)/summary.json --ref mueller-1992,de-klerk-2003,dixon-1988 -o $(OUT)/report/
+
+# The export for CFD and LBM codes (tools/bedexport/README.md).
+$(OUT)/bed.stl: $(OUT)/bed.packing $(BIN)/bedexport
+	$(BIN)/bedexport $< --stl $@ --tube-stl $(OUT)/tube.stl --vtk $(OUT)/bed.vtp --vtk-centres $(OUT)/centres.vtp --voxels $(OUT)/bed.raw

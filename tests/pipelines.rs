@@ -228,6 +228,21 @@ fn mkpellet_pack_settle_check_settle_a_small_sphere_bed_reproducibly() {
     }
     let worst = t.energy.iter().map(|e| e.max_penetration_m).fold(0.0, f64::max);
     assert!(worst < 0.01 * 0.010, "max penetration {worst} m");
+    // bedexport hands the settled bed on: every pellet's mesh in the STL,
+    // and voxels whose porosity agrees with voidprof's exact bulk porosity.
+    s.run("bedexport", &["bed.packing", "--stl", "bed.stl", "--voxels", "bed.raw", "--voxels-per-dp", "20"])
+        .success()
+        .stdout_has("pellets: 20 of 20");
+    let faces = packing.bed.pellet_types[0].mesh.face_count();
+    assert_eq!(std::fs::metadata(s.file("bed.stl")).unwrap().len() as usize, 84 + 50 * 20 * faces);
+    let header: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(s.file("bed.raw.json")).unwrap()).unwrap();
+    let z = &header["z_range"];
+    let window = format!("{},{}", z[0].as_f64().unwrap(), z[1].as_f64().unwrap());
+    s.run("voidprof", &["bed.packing", "--window", &window, "-o", "p.csv", "--summary", "v.json"]).success();
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(s.file("v.json")).unwrap()).unwrap();
+    let (voxel, exact) = (header["porosity"].as_f64().unwrap(), v["bulk_porosity"].as_f64().unwrap());
+    assert!((voxel - exact).abs() < 0.005, "voxel porosity {voxel} vs voidprof {exact}");
     // The same seed gives the same bytes; another seed another bed.
     let again = Scenario::new();
     std::fs::copy(s.file("s.pellet"), again.file("s.pellet")).unwrap();

@@ -47,7 +47,16 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
             _ => Path::new("."),
         };
         let io = |source| IoError::Io { path: out.path.clone(), source };
-        let mut tmp = tempfile::Builder::new().prefix(".packbed-").suffix(".tmp").tempfile_in(dir).map_err(io)?;
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".packbed-").suffix(".tmp");
+        // Temporary files are private (0600); an output is not: ask for
+        // 0666 and let the umask decide, as for any file a tool creates.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        let mut tmp = builder.tempfile_in(dir).map_err(io)?;
         tmp.write_all(&out.bytes).map_err(io)?;
         tmp.as_file().sync_all().map_err(io)?;
         staged.push((tmp, target));
@@ -66,4 +75,27 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
             .map_err(|source| IoError::Io { path: "-".into(), source })?;
     }
     Ok(())
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use std::os::unix::fs::PermissionsExt;
+
+    #[test]
+    fn outputs_get_the_permissions_of_any_new_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out.bin").display().to_string();
+        super::write_outputs(&[super::OutputFile {
+            path: out.clone(),
+            bytes: vec![1],
+            binary: true,
+            what: "test".into(),
+        }])
+        .unwrap();
+        // A file made the ordinary way: 0666 less the umask.
+        let reference = dir.path().join("reference");
+        std::fs::File::create(&reference).unwrap();
+        let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(std::path::Path::new(&out)), mode(&reference));
+    }
 }

@@ -1,0 +1,3 @@
+fn main() -> std::process::ExitCode {
+    pellet_cli::main("bedexport", bedexport::run)
+}
