@@ -68,3 +68,18 @@ pub fn positive_mm(flag: &str, value: f64) -> anyhow::Result<f64> {
         anyhow::bail!("{flag} must be a finite number > 0 mm (got {value})")
     }
 }
+
+/// Parses `--window z0,z1` (mm) into metres; z1 > z0. Shared by the tools that
+/// cut the bed to an axial window.
+pub fn parse_window(text: &str) -> anyhow::Result<(f64, f64)> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [a, b] = parts.as_slice() else {
+        anyhow::bail!("--window must be z0,z1 in mm, e.g. --window 0,100 (got {text:?})");
+    };
+    let parse = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite());
+    match (parse(a), parse(b)) {
+        (Some(z0), Some(z1)) if z1 > z0 => Ok((z0 * 1e-3, z1 * 1e-3)),
+        (Some(_), Some(_)) => anyhow::bail!("--window z0,z1 needs z1 > z0 (got {text:?})"),
+        _ => anyhow::bail!("--window must be two finite numbers z0,z1 in mm (got {text:?})"),
+    }
+}

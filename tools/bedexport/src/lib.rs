@@ -149,18 +149,13 @@ impl Args {
     }
 }
 
-/// Parses `z0,z1` in mm into metres.
+/// Parses `z0,z1` in mm into metres; the window starts at or above the floor.
 pub fn parse_window(text: &str) -> anyhow::Result<(f64, f64)> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let [a, b] = parts.as_slice() else {
-        bail!("--window must be z0,z1 in mm, e.g. --window 0,100 (got {text:?})");
-    };
-    let parse = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite());
-    match (parse(a), parse(b)) {
-        (Some(z0), Some(z1)) if z1 > z0 && z0 >= 0.0 => Ok((z0 * MM, z1 * MM)),
-        (Some(_), Some(_)) => bail!("--window z0,z1 needs 0 <= z0 < z1 (got {text:?})"),
-        _ => bail!("--window must be two finite numbers z0,z1 in mm (got {text:?})"),
+    let (z0, z1) = pellet_cli::parse_window(text)?;
+    if z0 < 0.0 {
+        bail!("--window z0,z1 needs 0 <= z0 < z1 (got {text:?})");
     }
+    Ok((z0, z1))
 }
 
 /// What was exported, for the summary.

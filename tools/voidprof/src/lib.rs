@@ -13,7 +13,7 @@ use pellet_analysis::{
     average_profiles, bulk_porosity, coordination, orientation, reference_diameters, void_profile, BulkPorosity,
     Coordination, Geometry, OrientationHistogram, ProfileParams, ProfileStats, VoidProfile,
 };
-use pellet_cli::{positive_mm, Outcome};
+use pellet_cli::{parse_window, positive_mm, Outcome};
 use pellet_geom::{Bed, Tube};
 use pellet_io::OutputFile;
 
@@ -183,20 +183,6 @@ fn plot(m: &Measurement, path: &std::path::Path) -> anyhow::Result<()> {
         m.window.1 * 1e3
     );
     pellet_plot::plot_profile(path, &title, &[series], &[]).map_err(|e| anyhow::anyhow!("{e}"))
-}
-
-/// Parses `z0,z1` in mm into metres.
-pub fn parse_window(text: &str) -> anyhow::Result<(f64, f64)> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let [a, b] = parts.as_slice() else {
-        bail!("--window must be z0,z1 in mm, e.g. --window 0,100 (got {text:?})");
-    };
-    let parse = |s: &str| s.parse::<f64>().ok().filter(|v| v.is_finite());
-    match (parse(a), parse(b)) {
-        (Some(z0), Some(z1)) if z1 > z0 => Ok((z0 * MM, z1 * MM)),
-        (Some(_), Some(_)) => bail!("--window z0,z1 needs z1 > z0 (got {text:?})"),
-        _ => bail!("--window must be two finite numbers z0,z1 in mm (got {text:?})"),
-    }
 }
 
 /// Reads the beds named by the arguments.
