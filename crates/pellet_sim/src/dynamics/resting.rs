@@ -242,11 +242,16 @@ pub fn resting_phase(
             None => &sys,
         };
         for _ in 0..rounds {
+            // Baraff's tolerance on a_i ≥ 0 is 1e-13 g (it was 1e-9 g): an unsupported
+            // acceleration below it is accepted, and a body resting on the 2-point line Baraff
+            // picks from a flat 4-point patch can topple about that line unseen. In a 2-stack
+            // that mode grew ×3 per 25 ms until its point accelerations reached the tolerance
+            // (|ω| 3e-8 rad/s at 1e-9 g, 4e-12 at 1e-13 g). Round-off of a is ~1e-16 g.
             let rep = solve_auto(
                 op,
                 &b,
                 &mut f,
-                1e-9 * tol / params.solver_tolerance_factor,
+                1e-13 * tol / params.solver_tolerance_factor,
                 tol,
                 params.exact_solver_max_rows,
                 apgd,

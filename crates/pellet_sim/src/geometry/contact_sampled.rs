@@ -23,6 +23,13 @@ const FACE_SWITCH: Real = 0.02;
 const WEDGE_COS: Real = 0.999;
 /// Distance from an edge (× R_b) below which the SDF's direction is round-off.
 const EDGE_EPS: Real = 1e-9;
+/// Smallest alignment (cosine of the angle outside the sample's normal cone) of a hit's normal
+/// with the sample's own outward normals. A hit at ~90° to the cone is a surface touching
+/// edge-on: B's bottom rim lying 1e-9–1e-7 m radially outside A's equal top rim gives A's
+/// lateral normal (horizontal) while B's cap faces straight down; those spurious lateral rows
+/// at every stacked interface were the trigger of the 5-stack blow-up (NOTES.md, problem 1).
+/// Round-off made the old `> 0` test pass them (alignment ~1e-7).
+const MIN_ALIGN: Real = 0.1;
 /// Golden-section iterations of the rim refinement (interval × 0.618²⁴ ≈ 1e-5).
 const GOLDEN_ITERS: usize = 24;
 
@@ -121,7 +128,7 @@ impl<'a> OneWay<'a> {
                 (phi, g, align) = (phi2, g2, a2);
             }
         }
-        if align <= 0.0 {
+        if align <= MIN_ALIGN {
             return None;
         }
         let n_out = self.rd * g;
