@@ -41,7 +41,8 @@ pub struct EngineParams {
     pub contact_distance_factor: Real,
     /// Allowed penetration s_lop left alone by position projection, factor of `d`.
     pub slop_factor: Real,
-    /// Penetration after a substep that triggers rewind-and-halve, factor of `d`.
+    /// Penetration after a substep that triggers rewind-and-halve, factor of the nominal pellet
+    /// size (`World::nominal_size`, the diameter; not the bounding diameter `d`).
     pub max_penetration_factor: Real,
     /// Static friction at resting contacts whose slip is below εf (off = paper mode).
     pub static_friction: bool,

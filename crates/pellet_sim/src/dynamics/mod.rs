@@ -2,6 +2,7 @@
 //! position projection.
 
 pub mod collide;
+pub mod friction_guard;
 pub mod integrator;
 pub mod islands;
 pub mod lcp;

@@ -4,6 +4,7 @@
 //! two are iterated to a fixed point (exact in one round when friction does not couple to the
 //! normal accelerations, e.g. a sphere on a plane).
 
+use super::friction_guard::{drop_energy_gaining, FrictionRow};
 use super::islands::build_islands;
 use super::lcp::{solve_auto, DenseLcp, LcpMatrix, LcpStatus};
 use super::rows::{relative_velocity, Row, RowSystem};
@@ -21,6 +22,8 @@ const FRICTION_TOL_FACTOR: Real = 0.1;
 /// The same for iteratively solved islands: their answers carry noise of order tol_r, so a
 /// tighter test would only chase that noise.
 const FRICTION_TOL_FACTOR_ITERATIVE: Real = 1.0;
+/// Rounds of (friction energy guard, normal re-solve) after the fixed point.
+const GUARD_ROUNDS: usize = 3;
 /// Gauss–Seidel sweeps of the static-friction rows per round.
 const STATIC_SWEEPS: usize = 20;
 
@@ -43,6 +46,8 @@ pub struct RestingStats {
     pub normal_work: Real,
     /// Σ f_i εp δt, J.
     pub normal_work_bound: Real,
+    /// Dynamic friction forces dropped by the coupled energy guard (`friction_guard`).
+    pub friction_dropped: u32,
 }
 
 /// Forces from the resting phase.
@@ -241,23 +246,26 @@ pub fn resting_phase(
             Some(d) => d,
             None => &sys,
         };
-        for _ in 0..rounds {
-            // Baraff's tolerance on a_i ≥ 0 is 1e-13 g (it was 1e-9 g): an unsupported
-            // acceleration below it is accepted, and a body resting on the 2-point line Baraff
-            // picks from a flat 4-point patch can topple about that line unseen. In a 2-stack
-            // that mode grew ×3 per 25 ms until its point accelerations reached the tolerance
-            // (|ω| 3e-8 rad/s at 1e-9 g, 4e-12 at 1e-13 g). Round-off of a is ~1e-16 g.
-            let rep = solve_auto(
+        // Baraff's tolerance on a_i ≥ 0 is 1e-13 g (it was 1e-9 g): an unsupported
+        // acceleration below it is accepted, and a body resting on the 2-point line Baraff
+        // picks from a flat 4-point patch can topple about that line unseen. In a 2-stack
+        // that mode grew ×3 per 25 ms until its point accelerations reached the tolerance
+        // (|ω| 3e-8 rad/s at 1e-9 g, 4e-12 at 1e-13 g). Round-off of a is ~1e-16 g.
+        let solve = |b: &[Real], f: &mut [Real]| {
+            solve_auto(
                 op,
-                &b,
-                &mut f,
+                b,
+                f,
                 1e-13 * tol / params.solver_tolerance_factor,
                 tol,
                 params.exact_solver_max_rows,
                 apgd,
                 params.apgd_max_iterations,
                 params.pgs_max_iterations,
-            );
+            )
+        };
+        for _ in 0..rounds {
+            let rep = solve(&b, &mut f);
             stats.solver_iterations += rep.iterations;
             last_rep = Some(rep);
             if fric.is_empty() {
@@ -271,6 +279,31 @@ pub fn resting_phase(
             b = b_new;
             if change <= friction_tol {
                 break;
+            }
+        }
+        if fric.iter().any(|x| x.1 == Friction::Dynamic) {
+            let rows: Vec<FrictionRow<'_>> = fric
+                .iter()
+                .zip(&free_t)
+                .map(|(x, ft)| FrictionRow {
+                    t1: &x.2,
+                    t2: &x.3,
+                    slip: (x.4, x.5),
+                    free: *ft,
+                    dynamic: x.1 == Friction::Dynamic,
+                })
+                .collect();
+            // Dropping friction changes the normal problem (friction enters it through b):
+            // re-solve the normal forces, then check again (a few rounds).
+            for _ in 0..GUARD_ROUNDS {
+                let dropped = drop_energy_gaining(&sys, &f, &rows, &mut gt, dt);
+                stats.friction_dropped += dropped;
+                if dropped == 0 {
+                    break;
+                }
+                let rep = solve(&coupled_rhs(&gt), &mut f);
+                stats.solver_iterations += rep.iterations;
+                last_rep = Some(rep);
             }
         }
         if let Some(rep) = last_rep {

@@ -81,6 +81,8 @@ pub struct StepReport {
     pub final_solves: u32,
     /// Friction impulses dropped by the energy guard.
     pub guard_events: u32,
+    /// Dynamic resting-friction forces dropped by the coupled energy guard.
+    pub friction_guard_drops: u32,
     /// LCP iterations / pivots, summed.
     pub solver_iterations: u64,
     /// Worst resting-solver residual, m/s².
@@ -241,7 +243,7 @@ impl World {
         let d = self.reference_size();
         let delta_c = self.params.contact_distance_factor * d;
         let slop = self.params.slop_factor * d;
-        let pen_max = self.params.max_penetration_factor * d;
+        let pen_max = self.params.max_penetration_factor * self.nominal_size();
         pipeline.saved.clone_from(&self.bodies);
         let mut dt = dt0;
         let mut rewinds = 0;
@@ -311,6 +313,7 @@ impl World {
             report.impulses += coll.impulses as u64;
             report.final_solves += coll.final_solve as u32;
             report.guard_events += coll.guard_events;
+            report.friction_guard_drops += rest.friction_dropped;
             report.solver_iterations += (coll.solver_iterations + rest.solver_iterations) as u64;
             report.solver_residual = report.solver_residual.max(rest.residual);
             report.unconverged_islands += rest.unconverged as u32;
