@@ -16,7 +16,8 @@ DOCS ?= docs/validation
 TABLE ?= pipelines/paper/beds.csv
 REPEATS ?=
 NICE ?= nice
-HERE := pipelines/paper
+# The helper scripts sit beside this file, wherever make is run from.
+HERE := $(patsubst %/,%,$(dir $(lastword $(MAKEFILE_LIST))))/paper
 RUNS := $(OUT)/runs
 CASES := $(OUT)/cases
 
