@@ -89,8 +89,23 @@ pub struct ProfileResult {
     pub mean: Vec<f64>,
     /// Standard deviation over the seeds.
     pub std: Vec<f64>,
-    /// (reference, rmse, r², ε_b used, reference curve at z).
-    pub scores: Vec<(String, f64, Option<f64>, Option<f64>, Vec<f64>)>,
+    /// The scores, one per reference.
+    pub scores: Vec<RefScore>,
+}
+
+/// A mean profile scored against one radial reference.
+#[derive(Clone, Debug)]
+pub struct RefScore {
+    /// Canonical name, e.g. `de-klerk-2003`.
+    pub reference: String,
+    /// Root-mean-square error of the reference against the simulated profile.
+    pub rmse: f64,
+    /// R² of the reference as a model of the simulated profile (`None`: undefined).
+    pub r2: Option<f64>,
+    /// The ε_b used (fitted, or the correlation's own).
+    pub eps_b: Option<f64>,
+    /// The reference evaluated at the profile's z.
+    pub curve: Vec<f64>,
 }
 
 /// The references each shape's profile is scored against. Cylinders: de
@@ -134,7 +149,13 @@ pub fn profiles(groups: &[Group]) -> Vec<ProfileResult> {
             if let Ok(Some(s)) = score_radial(corr, &profile, &bed, choice) {
                 let n = bed.n_for(z_unit).unwrap_or(f64::NAN);
                 let curve = z.iter().map(|&zi| (corr.eval)(zi, n, s.eps_b.unwrap_or(f64::NAN))).collect();
-                scores.push((name.to_string(), s.metrics.rmse, s.metrics.r2, s.eps_b, curve));
+                scores.push(RefScore {
+                    reference: name.to_string(),
+                    rmse: s.metrics.rmse,
+                    r2: s.metrics.r2,
+                    eps_b: s.eps_b,
+                    curve,
+                });
             }
         }
         out.push(ProfileResult { config: g.row.config.clone(), shape, n: first.n_dp, z, z_unit, mean, std, scores });

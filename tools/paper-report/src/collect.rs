@@ -94,7 +94,8 @@ fn read_bed(runs: &Path, id: &str) -> Result<Option<BedResult>> {
     };
     let settle_path = runs.join(format!("{id}.settle.json"));
     let settle = if settle_path.exists() { Some(read_json(&settle_path)?) } else { None };
-    let seconds = ["pack", "settle", "voidprof"].iter().map(|stage| read_seconds(&runs.join(format!("{id}.{stage}.time")))).sum();
+    let seconds =
+        ["pack", "settle", "voidprof"].iter().map(|stage| read_seconds(&runs.join(format!("{id}.{stage}.time")))).sum();
     let poses = runs.join(format!("{id}.poses.csv"));
     Ok(Some(BedResult {
         id: id.to_string(),

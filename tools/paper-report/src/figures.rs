@@ -51,18 +51,19 @@ pub fn porosity_vs_n(dir: &Path, shape: Shape, tubes: &[TubeResult]) -> Result<O
 /// One tube's mean radial profile ± its spread over seeds, with its references.
 pub fn profile(dir: &Path, p: &ProfileResult) -> Result<String> {
     let name = format!("profile_{}.png", p.config);
-    let series = vec![ProfileSeries::new("simulated, mean ± std of seeds", p.z.clone(), p.mean.clone())
-        .with_spread(p.std.clone())];
+    let series =
+        vec![ProfileSeries::new("simulated, mean ± std of seeds", p.z.clone(), p.mean.clone())
+            .with_spread(p.std.clone())];
     let refs: Vec<RefCurve> = p
         .scores
         .iter()
-        .map(|(name, _, _, eps_b, curve)| {
-            let label = match eps_b {
-                Some(e) => format!("{name} (ε_b {e:.3})"),
-                None => name.clone(),
+        .map(|s| {
+            let label = match s.eps_b {
+                Some(e) => format!("{} (ε_b {e:.3})", s.reference),
+                None => s.reference.clone(),
             };
             let style = if p.shape == Shape::Sphere { CurveStyle::Solid } else { CurveStyle::Dashed };
-            RefCurve::new(label, p.z.iter().copied().zip(curve.iter().copied()).collect(), style)
+            RefCurve::new(label, p.z.iter().copied().zip(s.curve.iter().copied()).collect(), style)
         })
         .collect();
     let x = format!("(R − r)/{}", p.z_unit.name());
@@ -91,6 +92,7 @@ pub fn parameter(dir: &Path, study: &str, series: &[StudySeries]) -> Result<Opti
     } else {
         ("Bulk porosity against friction (COR = 0.6), mean ± std", "pellet–pellet friction μ")
     };
-    Chart { title, x_label: x, y_label: "bulk porosity ε", series: &drawn, references: &[] }.render(&dir.join(&name))?;
+    Chart { title, x_label: x, y_label: "bulk porosity ε", series: &drawn, references: &[] }
+        .render(&dir.join(&name))?;
     Ok(Some(name))
 }

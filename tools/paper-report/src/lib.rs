@@ -41,7 +41,7 @@ pub struct Args {
     /// The bed table (CSV: config, study, shape, tube_diameter_mm (mm), seeds, scheme, cor, friction, …).
     #[arg(long, value_name = "CSV")]
     pub table: String,
-    /// Directory of the beds' files (<id>.summary.json, .profile.csv, .settle.json, .poses.csv, .*.time).
+    /// Directory of the beds' files (ID.summary.json, ID.profile.csv, ID.settle.json, ID.poses.csv, ID.*.time).
     #[arg(long, value_name = "DIR")]
     pub runs: String,
     /// Count only seeds 1..K of every row (as `make paper REPEATS=K`) [default: every seed of the table].
@@ -89,12 +89,18 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     for p in &profiles {
         let caption = match p.shape {
             Shape::Sphere => format!("Radial void fraction, spheres N = {:.2}, vs de Klerk and Mueller (Fig. 16)", p.n),
-            Shape::Cylinder => format!("Radial void fraction, cylinders N = {:.2}; de Klerk dashed: a sphere correlation, z/dpv (Fig. 17)", p.n),
+            Shape::Cylinder => format!(
+                "Radial void fraction, cylinders N = {:.2}; de Klerk dashed: a sphere correlation, z/dpv (Fig. 17)",
+                p.n
+            ),
             Shape::Ring => format!("Radial void fraction, Raschig rings N = {:.2} (Fig. 18)", p.n),
         };
         figures.push((caption, figures::profile(out, p)?));
     }
-    for (study, series, caption) in [("cor", &cor, "Bulk porosity against COR (Fig. 10)"), ("friction", &friction, "Bulk porosity against friction (Fig. 11)")] {
+    for (study, series, caption) in [
+        ("cor", &cor, "Bulk porosity against COR (Fig. 10)"),
+        ("friction", &friction, "Bulk porosity against friction (Fig. 11)"),
+    ] {
         if let Some(f) = figures::parameter(out, study, series)? {
             figures.push((caption.to_string(), f));
         }

@@ -73,17 +73,27 @@ impl Page<'_> {
     fn status(&self, o: &mut String) {
         let done: usize = self.groups.iter().map(|g| g.beds.len()).sum();
         let missing: Vec<&str> = self.groups.iter().flat_map(|g| g.missing.iter().map(String::as_str)).collect();
-        let unsettled: Vec<&str> =
-            self.groups.iter().flat_map(|g| g.beds.iter()).filter(|b| b.settled == Some(false)).map(|b| b.id.as_str()).collect();
+        let unsettled: Vec<&str> = self
+            .groups
+            .iter()
+            .flat_map(|g| g.beds.iter())
+            .filter(|b| b.settled == Some(false))
+            .map(|b| b.id.as_str())
+            .collect();
         let _ = writeln!(o, "## Status\n");
         let _ = writeln!(o, "- Beds finished: {done} of {}.", done + missing.len());
         if missing.is_empty() {
             let _ = writeln!(o, "- Missing beds: none.");
         } else {
-            let _ = writeln!(o, "- **Missing beds ({}), not in any number below:** {}.", missing.len(), missing.join(", "));
+            let _ =
+                writeln!(o, "- **Missing beds ({}), not in any number below:** {}.", missing.len(), missing.join(", "));
         }
         if !unsettled.is_empty() {
-            let _ = writeln!(o, "- **Not settled** at pack's time limit (measured at their last frame): {}.", unsettled.join(", "));
+            let _ = writeln!(
+                o,
+                "- **Not settled** at pack's time limit (measured at their last frame): {}.",
+                unsettled.join(", ")
+            );
         }
         let _ = writeln!(
             o,
@@ -106,35 +116,64 @@ impl Page<'_> {
                 None => ("no beds yet".into(), "—"),
             };
             let what = if shape == Shape::Ring { " (ring-envelope estimate, ours, grade C)" } else { "" };
-            let _ = writeln!(o, "| MRE of bulk porosity vs Dixon, {}s{what} | {ours} | {} | ≤ {} | {ok} |", shape.name(), pct(paper), pct(target));
+            let _ = writeln!(
+                o,
+                "| MRE of bulk porosity vs Dixon, {}s{what} | {ours} | {} | ≤ {} | {ok} |",
+                shape.name(),
+                pct(paper),
+                pct(target)
+            );
         }
         for p in self.profiles {
-            for (reference, rmse, r2, _, _) in &p.scores {
-                let (paper, target) = match p.shape {
-                    Shape::Sphere => ("R² > 0.85, RMSE < 0.08", "R² ≥ 0.9, RMSE ≤ 0.05"),
-                    _ => ("R² > 0.84, RMSE < 0.07 (vs Roshani's data)", "—"),
+            for s in &p.scores {
+                let (reference, rmse) = (&s.reference, s.rmse);
+                // Issue 8's target is for spheres against de Klerk only.
+                let de_klerk_sphere = p.shape == Shape::Sphere && reference == "de-klerk-2003";
+                let paper = match p.shape {
+                    Shape::Sphere => "R² > 0.85, RMSE < 0.08",
+                    _ => "R² > 0.84, RMSE < 0.07 (vs Roshani's data)",
                 };
-                let ok = match (p.shape, reference.as_str(), r2) {
-                    (Shape::Sphere, "de-klerk-2003", Some(r2)) => verdict(*r2 >= 0.9 && *rmse <= 0.05),
+                let target = if de_klerk_sphere { "R² ≥ 0.9, RMSE ≤ 0.05" } else { "—" };
+                let ok = match (p.shape, reference.as_str(), s.r2) {
+                    (Shape::Sphere, "de-klerk-2003", Some(r2)) => verdict(r2 >= 0.9 && rmse <= 0.05),
                     (Shape::Sphere, "de-klerk-2003", None) => verdict(false),
                     _ => "—",
                 };
-                let r2s = r2.map_or("undefined".into(), |r| format!("{r:.3}"));
-                let note = if p.shape == Shape::Sphere { "" } else { " (sphere correlation, z/dpv: not the paper's reference)" };
+                let r2s = s.r2.map_or("undefined".into(), |r| format!("{r:.3}"));
+                let note = if p.shape == Shape::Sphere {
+                    ""
+                } else {
+                    " (sphere correlation, z/dpv: not the paper's reference)"
+                };
                 let _ = writeln!(o, "| profile {} N = {:.2} vs {reference}{note}: R², RMSE | {r2s}, {rmse:.4} | {paper} | {target} | {ok} |", p.shape.name(), p.n);
             }
         }
-        let _ = writeln!(o, "\nMRE is the paper's measure: the *maximum* over the tubes of |ε_mean − ε_Dixon|/ε_Dixon, ε_mean the mean over seeds of the bulk porosity between z = 0 and 100 mm. Spheres use N = D/dp, cylinders N = D/dpv (Dixon's own N). Rings: Dixon's hollow-cylinder coefficients are not available here, so rings are scored against the ring-envelope estimate (Dixon's cylinder form for the solid envelope, the hole added as void) — an approximation of ours, not literature. Profiles: ε_b of de Klerk fitted so that the correlation's cross-section mean equals the bed's bulk porosity; Mueller uses its own ε_b(N). Where a target is missed the numbers above say by how much; the beds were not tuned per case.\n");
+        let _ = writeln!(o, "\nMRE is the paper's measure: the *maximum* over the tubes of |ε_mean − ε_Dixon|/ε_Dixon, ε_mean the mean over seeds of the bulk porosity over the row's voidprof window (z = 0–100 mm for the Table 3 beds). Spheres use N = D/dp, cylinders N = D/dpv (Dixon's own N). Rings: Dixon's hollow-cylinder coefficients are not available here, so rings are scored against the ring-envelope estimate (Dixon's cylinder form for the solid envelope, the hole added as void) — an approximation of ours, not literature. Profiles: ε_b of de Klerk fitted so that the correlation's cross-section mean equals the bed's bulk porosity; Mueller uses its own ε_b(N). Where a target is missed the numbers above say by how much; the beds were not tuned per case.\n");
     }
 
     fn validation_tables(&self, o: &mut String) {
         let _ = writeln!(o, "## Bulk porosity per tube (Table 3 beds)\n");
-        let _ = writeln!(o, "| shape | D (mm) | N = D/dp | N = D/dpv | seeds | ε per seed | ε mean | Dixon | relative error |");
+        let _ = writeln!(
+            o,
+            "| shape | D (mm) | N = D/dp | N = D/dpv | seeds | ε per seed | ε mean | Dixon | relative error |"
+        );
         let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|");
         for (shape, tubes, _) in &self.validation {
             for t in tubes {
                 let seeds: Vec<String> = t.porosity_seeds.iter().map(|p| format!("{p:.4}")).collect();
-                let _ = writeln!(o, "| {} | {} | {:.2} | {:.2} | {} | {} | {:.4} | {:.4} | {:+.1} % |", shape.name(), t.tube_diameter_mm, t.n, t.n_dpv, seeds.len(), seeds.join(", "), t.porosity_mean, t.dixon, 100.0 * (t.porosity_mean - t.dixon) / t.dixon);
+                let _ = writeln!(
+                    o,
+                    "| {} | {} | {:.2} | {:.2} | {} | {} | {:.4} | {:.4} | {:+.1} % |",
+                    shape.name(),
+                    t.tube_diameter_mm,
+                    t.n,
+                    t.n_dpv,
+                    seeds.len(),
+                    seeds.join(", "),
+                    t.porosity_mean,
+                    t.dixon,
+                    100.0 * (t.porosity_mean - t.dixon) / t.dixon
+                );
             }
         }
         o.push('\n');
@@ -156,10 +195,21 @@ impl Page<'_> {
                 "—".into()
             };
             let (eps, dixon) = match (mean_std(&g.porosities()), g.beds.first()) {
-                (Some((m, s)), Some(b)) => (format!("{m:.4} ± {s:.4}"), format!("{:.4}", crate::analysis::dixon(g.row.shape, b.n_dp, b.n_dpv))),
+                (Some((m, s)), Some(b)) => {
+                    (format!("{m:.4} ± {s:.4}"), format!("{:.4}", crate::analysis::dixon(g.row.shape, b.n_dp, b.n_dpv)))
+                }
                 _ => ("missing".into(), "—".into()),
             };
-            let _ = writeln!(o, "| {} | {} | {} | {} ({}) | {} | {eps} | {dixon} | {paper} |", g.row.config, g.row.shape.name(), g.row.tube_diameter_mm, g.row.scheme, g.row.label, g.beds.len());
+            let _ = writeln!(
+                o,
+                "| {} | {} | {} | {} ({}) | {} | {eps} | {dixon} | {paper} |",
+                g.row.config,
+                g.row.shape.name(),
+                g.row.tube_diameter_mm,
+                g.row.scheme,
+                g.row.label,
+                g.beds.len()
+            );
         }
         o.push('\n');
     }
@@ -171,7 +221,8 @@ impl Page<'_> {
         let _ = writeln!(o, "|---|---|---|---|---|");
         for (study, series, paper_sign) in [("COR", self.cor, -1.0), ("friction", self.friction, 1.0)] {
             for s in series {
-                let vals: Vec<String> = s.points.iter().map(|p| format!("{}: {:.4} ± {:.4} ({})", p.0, p.1, p.2, p.3)).collect();
+                let vals: Vec<String> =
+                    s.points.iter().map(|p| format!("{}: {:.4} ± {:.4} ({})", p.0, p.1, p.2, p.3)).collect();
                 let (slope, agree) = match s.slope {
                     Some(k) => (format!("{k:+.4}"), if k * paper_sign > 0.0 { "yes" } else { "**no**" }),
                     None => ("—".into(), "—"),

@@ -44,8 +44,8 @@ pub fn summary(
     let profiles: Vec<Value> = profiles
         .iter()
         .flat_map(|p| {
-            p.scores.iter().map(move |(reference, rmse, r2, _, _)| {
-                json!({ "shape": p.shape.name(), "N": p.n, "reference": reference, "rmse": rmse, "r2": r2 })
+            p.scores.iter().map(move |s| {
+                json!({ "shape": p.shape.name(), "N": p.n, "reference": s.reference, "rmse": s.rmse, "r2": s.r2 })
             })
         })
         .collect();
@@ -61,7 +61,11 @@ pub fn summary(
 pub fn machine() -> String {
     let cpu = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
-        .and_then(|t| t.lines().find(|l| l.starts_with("model name")).map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string()))
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
         .unwrap_or_else(|| "unknown CPU".into());
     let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
     format!("{cpu}, {cores} logical cores, {} {}", std::env::consts::OS, std::env::consts::ARCH)
