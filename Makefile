@@ -37,17 +37,18 @@ bench:
 # The paper's study (pipelines/paper.mk, README "The paper's study"):
 # beds under $(PAPER_OUT), the report in $(PAPER_DOCS). REPEATS=k runs seeds
 # 1..k only. The report is written from whatever beds exist, also when some
-# failed (the exit status is still the beds').
+# failed (the exit status is still the beds'). `+` marks the recipes as
+# recursive make, so `make -j2 paper` shares its job slots with them.
 PAPER_OUT ?= $(OUT)/paper
 PAPER_DOCS ?= docs/validation
 REPEATS ?=
 PAPER = $(MAKE) --no-print-directory -f pipelines/paper.mk BIN=$(BIN) OUT=$(PAPER_OUT) DOCS=$(PAPER_DOCS) REPEATS=$(REPEATS)
 
 paper paper-validation paper-loading paper-cor paper-friction: build
-	$(PAPER) $(if $(filter paper,$@),all,$(@:paper-%=%)) || status=$$?; $(PAPER) report && exit $${status:-0}
+	+$(PAPER) $(if $(filter paper,$@),all,$(@:paper-%=%)) || status=$$?; $(PAPER) report && exit $${status:-0}
 
 paper-report: build
-	$(PAPER) report
+	+$(PAPER) report
 
 clean:
 	rm -rf $(OUT)
