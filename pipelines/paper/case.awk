@@ -8,7 +8,8 @@ NR > 1 {
     seed = substr(id, length(want) + 3)
     if ($1 != want) next
     found = 1
-    printf "# packbed paper study, bed %s (%s, %s), made by pipelines/paper.mk from the bed table\n", id, $2, $15
+    # No label here: editing a label must not re-run hours of beds.
+    printf "# packbed paper study, bed %s (%s), made by pipelines/paper.mk from the bed table\n", id, $2
     printf "# voidprof-window: %s,%s\n", $7, $8
     printf "pellet = \"%s/%s.pellet\"\n", pellets, $3
     printf "tube-diameter = %s\nfill-height = %s\nseed = %s\nscheme = \"%s\"\n", $4, $6, seed, $9
