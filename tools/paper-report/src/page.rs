@@ -110,9 +110,13 @@ impl Page<'_> {
         let _ = writeln!(o, "| quantity | ours | paper | target (issue 8) | target |");
         let _ = writeln!(o, "|---|---|---|---|---|");
         for (shape, paper, target) in PAPER_MRE {
-            let mre = self.validation.iter().find(|v| v.0 == shape).and_then(|v| v.2);
+            let found = self.validation.iter().find(|v| v.0 == shape);
+            let mre = found.and_then(|v| v.2);
+            // A maximum over some tubes only is a lower bound: say how many.
+            let tubes = found.map_or(0, |v| v.1.len());
+            let of = self.groups.iter().filter(|g| g.row.study == "validation" && g.row.shape == shape).count();
             let (ours, ok) = match mre {
-                Some(m) => (pct(m), verdict(m <= target)),
+                Some(m) => (format!("{} ({tubes} of {of} tubes)", pct(m)), verdict(m <= target)),
                 None => ("no beds yet".into(), "—"),
             };
             let what = if shape == Shape::Ring { " (ring-envelope estimate, ours, grade C)" } else { "" };
