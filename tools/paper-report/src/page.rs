@@ -207,12 +207,12 @@ impl Page<'_> {
             };
             let _ = writeln!(
                 o,
-                "| {} | {} | {} | {} ({}) | {} | {eps} | {dixon} | {paper} |",
+                "| {} | {} | {} | {} (`{}`) | {} | {eps} | {dixon} | {paper} |",
                 g.row.config,
                 g.row.shape.name(),
                 g.row.tube_diameter_mm,
-                g.row.scheme,
                 g.row.label,
+                g.row.scheme,
                 g.beds.len()
             );
         }
@@ -224,6 +224,9 @@ impl Page<'_> {
         let _ = writeln!(o, "The paper found denser beds (lower ε) at higher COR and at lower friction; the friction effect about 1.5 times the COR effect. Slope: least squares of ε over every bed of the series.\n");
         let _ = writeln!(o, "| study | series | values (ε mean ± std, beds) | slope dε/dx | as the paper? |");
         let _ = writeln!(o, "|---|---|---|---|---|");
+        if self.cor.is_empty() && self.friction.is_empty() {
+            let _ = writeln!(o, "| — | no bed of the COR or friction study has finished | | | |");
+        }
         for (study, series, paper_sign) in [("COR", self.cor, -1.0), ("friction", self.friction, 1.0)] {
             for s in series {
                 let vals: Vec<String> =
