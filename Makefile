@@ -4,7 +4,7 @@ CARGO ?= cargo
 OUT ?= out
 BIN := target/release
 
-.PHONY: all build pipeline test lint doc bench clean
+.PHONY: all build pipeline test lint doc bench clean paper paper-validation paper-loading paper-cor paper-friction paper-report
 
 all: pipeline
 
@@ -33,6 +33,22 @@ bench:
 	$(CARGO) bench -p pellet_sim --bench pack_cylinders
 	$(CARGO) run --release -p pellet_analysis --example bench_voidprof
 	$(CARGO) run --release -p pellet_export --example bench_export
+
+# The paper's study (pipelines/paper.mk, README "The paper's study"):
+# beds under $(PAPER_OUT), the report in $(PAPER_DOCS). REPEATS=k runs seeds
+# 1..k only. The report is written from whatever beds exist, also when some
+# failed (the exit status is still the beds'). `+` marks the recipes as
+# recursive make, so `make -j2 paper` shares its job slots with them.
+PAPER_OUT ?= $(OUT)/paper
+PAPER_DOCS ?= docs/validation
+REPEATS ?=
+PAPER = $(MAKE) --no-print-directory -f pipelines/paper.mk BIN=$(BIN) OUT=$(PAPER_OUT) DOCS=$(PAPER_DOCS) REPEATS=$(REPEATS)
+
+paper paper-validation paper-loading paper-cor paper-friction: build
+	+$(PAPER) $(if $(filter paper,$@),all,$(@:paper-%=%)) || status=$$?; $(PAPER) report && exit $${status:-0}
+
+paper-report: build
+	+$(PAPER) report
 
 clean:
 	rm -rf $(OUT)

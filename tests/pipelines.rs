@@ -1,5 +1,8 @@
 //! End-to-end chains of the real binaries on tiny inputs.
 
+#[path = "paper.rs"]
+mod paper;
+
 use pellet_tests::Scenario;
 
 #[test]

@@ -1,0 +1,82 @@
+# The paper's study (Mohammadzadeh Moghaddam et al. 2018; issue 8), bed by
+# bed: one case file per bed made from the table $(TABLE), then
+# pack → settle-check → voidprof, and paper-report over whatever has
+# finished. Every file is a Make target, so a re-run skips finished beds and
+# `make -j2` runs two beds at once (each recipe writes only its own bed's files).
+#
+#   make -f pipelines/paper.mk validation|loading|cor|friction|all   the beds
+#   make -f pipelines/paper.mk report                                 docs from what exists
+#
+# REPEATS=k keeps seeds 1..k of every row (the table's own count otherwise).
+# A bed that reaches pack's --max-time without settling is kept (its
+# trajectory is complete) and reported as not settled, not retried.
+BIN ?= target/release
+OUT ?= out/paper
+DOCS ?= docs/validation
+TABLE ?= pipelines/paper/beds.csv
+REPEATS ?=
+NICE ?= nice
+# The helper scripts sit beside this file, wherever make is run from.
+HERE := $(patsubst %/,%,$(dir $(lastword $(MAKEFILE_LIST))))/paper
+RUNS := $(OUT)/runs
+CASES := $(OUT)/cases
+
+ids = $(shell awk -F, -v study=$(1) -v repeats=$(REPEATS) -f $(HERE)/ids.awk $(TABLE))
+done_of = $(patsubst %,$(RUNS)/%.summary.json,$(1))
+
+VALIDATION := $(call ids,validation)
+LOADING := $(call ids,loading)
+COR := $(call ids,cor)
+FRICTION := $(call ids,friction)
+
+PELLETS := $(OUT)/sphere.pellet $(OUT)/cylinder.pellet $(OUT)/ring.pellet
+
+.PHONY: all validation loading cor friction report pellets
+.SECONDARY:
+# A recipe that fails half-way must not leave a file that looks finished.
+.DELETE_ON_ERROR:
+
+all: validation loading cor friction
+validation: $(call done_of,$(VALIDATION))
+loading: $(call done_of,$(LOADING))
+cor: $(call done_of,$(COR))
+friction: $(call done_of,$(FRICTION))
+pellets: $(PELLETS)
+
+report:
+	$(BIN)/paper-report --table $(TABLE) --runs $(RUNS) $(if $(REPEATS),--repeats $(REPEATS)) -o $(DOCS)
+
+$(OUT) $(RUNS) $(CASES):
+	mkdir -p $@
+
+# The paper's pellets (Table 3): sphere 10 mm, cylinder 10 × 10 mm, ring 10/6 × 10 mm.
+$(OUT)/sphere.pellet: | $(OUT)
+	$(BIN)/mkpellet sphere --diameter 10 -o $@
+$(OUT)/cylinder.pellet: | $(OUT)
+	$(BIN)/mkpellet cylinder --diameter 10 --height 10 -o $@
+$(OUT)/ring.pellet: | $(OUT)
+	$(BIN)/mkpellet ring --outer-diameter 10 --inner-diameter 6 --height 10 -o $@
+
+# The case file is rewritten only when its text changes, so editing one row
+# of the table re-runs only that row's beds.
+$(CASES)/%.toml: $(TABLE) $(HERE)/case.awk | $(CASES)
+	awk -F, -v id=$* -v pellets=$(OUT) -f $(HERE)/case.awk $(TABLE) > $@.tmp
+	if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
+
+# pack exits 2 when --max-time is reached before the bed settles; the
+# trajectory is complete then and kept (settle-check reports it unsettled).
+$(RUNS)/%.mcap: $(CASES)/%.toml $(PELLETS) | $(RUNS)
+	rm -f $(RUNS)/$*.run.mcap
+	sh $(HERE)/timed.sh $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --quiet \
+	  || test -f $(RUNS)/$*.run.mcap
+	mv $(RUNS)/$*.run.mcap $@
+
+# settle-check exits 1 for a bed that did not settle: its last frame is kept.
+$(RUNS)/%.packing: $(RUNS)/%.mcap
+	sh $(HERE)/timed.sh $(RUNS)/$*.settle.time $(NICE) $(BIN)/settle-check $< -o $@ --csv $(RUNS)/$*.poses.csv \
+	  --json > $(RUNS)/$*.settle.json.tmp || test $$? -eq 1
+	mv $(RUNS)/$*.settle.json.tmp $(RUNS)/$*.settle.json
+
+$(RUNS)/%.summary.json: $(RUNS)/%.packing
+	sh $(HERE)/timed.sh $(RUNS)/$*.voidprof.time $(NICE) $(BIN)/voidprof $< \
+	  --window $$(sed -n 's/^# voidprof-window: //p' $(CASES)/$*.toml) -o $(RUNS)/$*.profile.csv --summary $@

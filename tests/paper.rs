@@ -1,0 +1,160 @@
+//! Issue 8: `pipelines/paper.mk` and `paper-report` on a few small real beds.
+//! The pipeline runs through make with the test profile's binaries, on a
+//! table of 10 mm spheres in a 25 mm tube filled to 20 mm; the report's
+//! numbers are recomputed here from the beds' own files.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use pellet_tests::{bin, Scenario};
+use serde_json::Value;
+
+/// Small beds: two seeds of one validation tube, two COR values (one seed),
+/// and rows that are never run (they must be reported missing).
+const TABLE: &str = "\
+config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label
+val-sphere-D25,validation,sphere,25,2,20,0,12,one-column,,,,,6,small Table 3 tube
+cor-sphere-D25-c0.3,cor,sphere,25,1,20,0,12,one-column,0.3,0.6,0.8,45,6,COR 0.3
+cor-sphere-D25-c0.9,cor,sphere,25,1,20,0,12,one-column,0.9,0.6,0.8,45,6,COR 0.9
+mu-sphere-D25-m0.3,friction,sphere,25,2,20,0,12,one-column,0.6,0.3,0.8,45,6,never run
+load-sphere-D25-two-columns,loading,sphere,25,1,20,0,12,two-columns,,,,,6,never run
+";
+
+fn make(s: &Scenario, targets: &[&str]) -> std::process::Output {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace root").to_path_buf();
+    let bin_dir = bin("pack").parent().expect("binary directory").to_path_buf();
+    Command::new("make")
+        .arg("-f")
+        .arg(root.join("pipelines/paper.mk"))
+        .arg(format!("BIN={}", bin_dir.display()))
+        .args(["OUT=out", "DOCS=docs", "TABLE=beds.csv", "NICE="])
+        .args(targets)
+        .current_dir(s.path())
+        .output()
+        .expect("run make (is GNU make installed?)")
+}
+
+fn json(path: PathBuf) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display())))
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Dixon (1988) for spheres, x = 1/N, written out again from the refdata
+/// description (not the library's code).
+fn dixon_spheres(n: f64) -> f64 {
+    let x = 1.0 / n;
+    if x <= 0.5 {
+        0.4 + 0.05 * x + 0.412 * x * x
+    } else if x <= 0.536 {
+        0.528 + 2.464 * (x - 0.5)
+    } else {
+        1.0 - 0.667 * x.powi(3) * (2.0 * x - 1.0).powf(-0.5)
+    }
+}
+
+fn keys(v: &Value) -> Vec<String> {
+    let mut k: Vec<String> = v.as_object().expect("object").keys().cloned().collect();
+    k.sort();
+    k
+}
+
+#[test]
+fn issue_8_paper_pipeline_and_report_on_small_beds() {
+    let s = Scenario::new();
+    std::fs::write(s.file("beds.csv"), TABLE).unwrap();
+    let out = make(&s, &["validation", "cor", "report"]);
+    let log = format!("{}\n{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "make failed:\n{log}");
+
+    // The report names exactly the beds that were not run.
+    let page = std::fs::read_to_string(s.file("docs/README.md")).unwrap();
+    for id in ["mu-sphere-D25-m0.3-s1", "mu-sphere-D25-m0.3-s2", "load-sphere-D25-two-columns-s1"] {
+        assert!(page.contains(id), "{id} not listed as missing:\n{page}");
+    }
+    assert!(page.contains("Beds finished: 4 of 7"), "{page}");
+    assert!(!page.contains("val-sphere-D25-s1,") && !page.contains("cor-sphere-D25-c0.3-s1,"), "{page}");
+
+    // summary.json: exactly the issue's schema.
+    let sum = json(s.file("docs/summary.json"));
+    assert_eq!(keys(&sum), ["compute_seconds", "machine", "profiles", "shapes"]);
+    assert_eq!(keys(&sum["shapes"]), ["cylinder", "ring", "sphere"]);
+    for shape in ["cylinder", "ring"] {
+        assert_eq!(sum["shapes"][shape]["mre_dixon"], Value::Null);
+        assert_eq!(sum["shapes"][shape]["beds"].as_array().unwrap().len(), 0);
+    }
+    let sphere = &sum["shapes"]["sphere"];
+    assert_eq!(keys(sphere), ["beds", "mre_dixon"]);
+    let beds = sphere["beds"].as_array().unwrap();
+    assert_eq!(beds.len(), 1, "only the validation tube counts: {beds:?}");
+    let bed = &beds[0];
+    assert_eq!(keys(bed), ["N", "N_dpv", "dixon", "porosity_mean", "porosity_seeds", "tube_diameter_mm"]);
+
+    // The values, recomputed from voidprof's per-bed summaries.
+    let seeds: Vec<f64> = (1..=2)
+        .map(|k| json(s.file(&format!("out/runs/val-sphere-D25-s{k}.summary.json")))["bulk_porosity"].as_f64().unwrap())
+        .collect();
+    let reported: Vec<f64> = bed["porosity_seeds"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(reported, seeds);
+    let mean = (seeds[0] + seeds[1]) / 2.0;
+    assert!((bed["porosity_mean"].as_f64().unwrap() - mean).abs() < 1e-12);
+    let n = bed["N"].as_f64().unwrap();
+    assert!((n - 2.5).abs() < 1e-9, "N = D/dp = 25/10, got {n}");
+    let dixon = dixon_spheres(n);
+    assert!((bed["dixon"].as_f64().unwrap() - dixon).abs() < 1e-9);
+    let mre = ((mean - dixon) / dixon).abs();
+    assert!((sphere["mre_dixon"].as_f64().unwrap() - mre).abs() < 1e-12, "MRE {mre}");
+    let row = format!("{:.1} % (1 of 1 tubes)", 100.0 * mre);
+    assert!(page.contains(&row), "the page lacks the MRE {row}:\n{page}");
+
+    // Compute time: the sum of the recorded stage times of the finished beds.
+    let mut seconds = 0.0;
+    for id in ["val-sphere-D25-s1", "val-sphere-D25-s2", "cor-sphere-D25-c0.3-s1", "cor-sphere-D25-c0.9-s1"] {
+        for stage in ["pack", "settle", "voidprof"] {
+            let t = std::fs::read_to_string(s.file(&format!("out/runs/{id}.{stage}.time"))).unwrap();
+            seconds += t.split_whitespace().next().unwrap().parse::<f64>().unwrap();
+        }
+    }
+    let reported = sum["compute_seconds"].as_f64().unwrap();
+    assert!(seconds > 0.0 && (reported - seconds).abs() < 1e-6, "{reported} vs {seconds}");
+    assert!(!sum["machine"].as_str().unwrap().is_empty());
+
+    // Profiles: the sphere tube against de Klerk and Mueller, sane scores.
+    let profiles = sum["profiles"].as_array().unwrap();
+    let refs: Vec<&str> = profiles.iter().map(|p| p["reference"].as_str().unwrap()).collect();
+    assert_eq!(refs, ["de-klerk-2003", "mueller-1992"]);
+    for p in profiles {
+        assert_eq!(keys(p), ["N", "r2", "reference", "rmse", "shape"]);
+        assert_eq!(p["shape"], "sphere");
+        let rmse = p["rmse"].as_f64().unwrap();
+        assert!(rmse > 0.0 && rmse < 1.0, "{p}");
+        assert!(p["r2"].as_f64().is_none_or(|r2| r2 <= 1.0), "{p}");
+    }
+
+    // Settled poses of the validation beds only, byte for byte.
+    for k in 1..=2 {
+        let copied = std::fs::read(s.file(&format!("docs/beds/val-sphere-D25-s{k}.csv"))).unwrap();
+        assert_eq!(copied, std::fs::read(s.file(&format!("out/runs/val-sphere-D25-s{k}.poses.csv"))).unwrap());
+    }
+    assert!(!s.file("docs/beds/cor-sphere-D25-c0.3-s1.csv").exists());
+
+    // Figures, as PNG.
+    for png in ["porosity_vs_n_sphere.png", "profile_val-sphere-D25.png", "porosity_vs_cor.png"] {
+        let bytes = std::fs::read(s.file(&format!("docs/{png}"))).unwrap_or_else(|e| panic!("{png}: {e}"));
+        assert!(bytes.starts_with(b"\x89PNG"), "{png} is not a PNG");
+        assert!(page.contains(png), "the page does not show {png}");
+    }
+
+    // Files are the targets: a second run has nothing to do.
+    let again = make(&s, &["-q", "validation", "cor"]);
+    assert!(again.status.success(), "make -q says beds are out of date");
+
+    // --repeats 1 counts seed 1 only.
+    s.run("paper-report", &["--table", "beds.csv", "--runs", "out/runs", "--repeats", "1", "-o", "r1"]).success();
+    let r1 = json(s.file("r1/summary.json"));
+    assert_eq!(r1["shapes"]["sphere"]["beds"][0]["porosity_seeds"].as_array().unwrap().len(), 1);
+
+    // Bad input: one line, exit 2.
+    std::fs::write(s.file("bad.csv"), "config,study\nx,validation\n").unwrap();
+    s.run("paper-report", &["--table", "bad.csv", "--runs", "out/runs", "-o", "r2"]).fails_with("lacks the column");
+    s.run("paper-report", &["--table", "beds.csv", "--runs", "nowhere", "-o", "r2"]).fails_with("not a directory");
+}

@@ -1,0 +1,3 @@
+fn main() -> std::process::ExitCode {
+    pellet_cli::main("paper-report", paper_report::run)
+}

@@ -1,0 +1,243 @@
+//! The Markdown page (`README.md` in the output directory): what finished,
+//! what is missing, the figures, and our numbers beside the paper's.
+
+use std::fmt::Write;
+
+use pellet_refs::Shape;
+
+use crate::analysis::{ProfileResult, StudySeries, TubeResult};
+use crate::collect::Group;
+use crate::stats::mean_std;
+
+/// The paper's maximum relative errors vs Dixon (fractions) and issue 8's targets.
+pub const PAPER_MRE: [(Shape, f64, f64); 3] =
+    [(Shape::Sphere, 0.039, 0.03), (Shape::Cylinder, 0.176, 0.08), (Shape::Ring, 0.066, 0.05)];
+
+/// The paper's Table 2 (cylinders, N = 6.98): scheme 1 and five disturbed variants.
+pub const PAPER_TABLE2: (f64, [f64; 5]) = (0.405, [0.410, 0.419, 0.416, 0.420, 0.425]);
+
+/// Everything on the page.
+pub struct Page<'a> {
+    /// The command that wrote it.
+    pub command: String,
+    /// Every row with its beds.
+    pub groups: &'a [Group],
+    /// Validation tubes and MRE per shape.
+    pub validation: Vec<(Shape, Vec<TubeResult>, Option<f64>)>,
+    /// Mean profiles and scores.
+    pub profiles: &'a [ProfileResult],
+    /// COR and friction series.
+    pub cor: &'a [StudySeries],
+    /// Friction series.
+    pub friction: &'a [StudySeries],
+    /// Figure file names: (caption, file).
+    pub figures: Vec<(String, String)>,
+    /// Summed wall time of the finished beds (s).
+    pub compute_seconds: f64,
+    /// The machine.
+    pub machine: String,
+}
+
+fn pct(x: f64) -> String {
+    format!("{:.1} %", 100.0 * x)
+}
+
+fn verdict(ok: bool) -> &'static str {
+    if ok {
+        "met"
+    } else {
+        "**missed**"
+    }
+}
+
+impl Page<'_> {
+    /// The page's text.
+    pub fn render(&self) -> String {
+        let mut o = String::new();
+        let _ = writeln!(o, "# Validation against Mohammadzadeh Moghaddam et al. (2018)\n");
+        let _ = writeln!(o, "Written by `{}` (regenerate with `make paper`; see the project README).\n", self.command);
+        self.status(&mut o);
+        self.comparison(&mut o);
+        self.validation_tables(&mut o);
+        self.loading(&mut o);
+        self.trends(&mut o);
+        let _ = writeln!(o, "## Figures\n");
+        for (caption, file) in &self.figures {
+            let _ = writeln!(o, "![{caption}]({file})\n\n*{caption}*\n");
+        }
+        let _ = writeln!(o, "## Settled beds\n");
+        let _ = writeln!(o, "The settled poses of every finished validation bed are in [`beds/`](beds/) as CSV: `id,x,y,z,qw,qx,qy,qz` (mm, body → world quaternions; tube axis z, floor z = 0), as `settle-check --csv` writes them. `voidprof --poses` reads them back.");
+        o
+    }
+
+    fn status(&self, o: &mut String) {
+        let done: usize = self.groups.iter().map(|g| g.beds.len()).sum();
+        let missing: Vec<&str> = self.groups.iter().flat_map(|g| g.missing.iter().map(String::as_str)).collect();
+        let unsettled: Vec<&str> = self
+            .groups
+            .iter()
+            .flat_map(|g| g.beds.iter())
+            .filter(|b| b.settled == Some(false))
+            .map(|b| b.id.as_str())
+            .collect();
+        let _ = writeln!(o, "## Status\n");
+        let _ = writeln!(o, "- Beds finished: {done} of {}.", done + missing.len());
+        if missing.is_empty() {
+            let _ = writeln!(o, "- Missing beds: none.");
+        } else {
+            let _ =
+                writeln!(o, "- **Missing beds ({}), not in any number below:** {}.", missing.len(), missing.join(", "));
+        }
+        if !unsettled.is_empty() {
+            let _ = writeln!(
+                o,
+                "- **Not settled** at pack's time limit (measured at their last frame): {}.",
+                unsettled.join(", ")
+            );
+        }
+        let _ = writeln!(
+            o,
+            "- Compute time: {:.0} s ({:.2} h) of wall time summed over the finished beds (pack + settle-check + voidprof, one core each; `make -j2` runs two at once).",
+            self.compute_seconds,
+            self.compute_seconds / 3600.0
+        );
+        let _ = writeln!(o, "- Machine: {}.", self.machine);
+        let _ = writeln!(o, "- Engine defaults for every bed (no per-bed tuning): `pack`'s defaults unless the table row sets COR, friction or disturbances; contact model `recommended` (the paper's model does not let a poured bed settle; see the project README).\n");
+    }
+
+    fn comparison(&self, o: &mut String) {
+        let _ = writeln!(o, "## Our figures beside the paper's\n");
+        let _ = writeln!(o, "| quantity | ours | paper | target (issue 8) | target |");
+        let _ = writeln!(o, "|---|---|---|---|---|");
+        for (shape, paper, target) in PAPER_MRE {
+            let found = self.validation.iter().find(|v| v.0 == shape);
+            let mre = found.and_then(|v| v.2);
+            // A maximum over some tubes only is a lower bound: say how many.
+            let tubes = found.map_or(0, |v| v.1.len());
+            let of = self.groups.iter().filter(|g| g.row.study == "validation" && g.row.shape == shape).count();
+            let (ours, ok) = match mre {
+                Some(m) => (format!("{} ({tubes} of {of} tubes)", pct(m)), verdict(m <= target)),
+                None => ("no beds yet".into(), "—"),
+            };
+            let what = if shape == Shape::Ring { " (ring-envelope estimate, ours, grade C)" } else { "" };
+            let _ = writeln!(
+                o,
+                "| MRE of bulk porosity vs Dixon, {}s{what} | {ours} | {} | ≤ {} | {ok} |",
+                shape.name(),
+                pct(paper),
+                pct(target)
+            );
+        }
+        for p in self.profiles {
+            for s in &p.scores {
+                let (reference, rmse) = (&s.reference, s.rmse);
+                // Issue 8's target is for spheres against de Klerk only.
+                let de_klerk_sphere = p.shape == Shape::Sphere && reference == "de-klerk-2003";
+                let paper = match p.shape {
+                    Shape::Sphere => "R² > 0.85, RMSE < 0.08",
+                    _ => "R² > 0.84, RMSE < 0.07 (vs Roshani's data)",
+                };
+                let target = if de_klerk_sphere { "R² ≥ 0.9, RMSE ≤ 0.05" } else { "—" };
+                let ok = match (p.shape, reference.as_str(), s.r2) {
+                    (Shape::Sphere, "de-klerk-2003", Some(r2)) => verdict(r2 >= 0.9 && rmse <= 0.05),
+                    (Shape::Sphere, "de-klerk-2003", None) => verdict(false),
+                    _ => "—",
+                };
+                let r2s = s.r2.map_or("undefined".into(), |r| format!("{r:.3}"));
+                let note = if p.shape == Shape::Sphere {
+                    ""
+                } else {
+                    " (sphere correlation, z/dpv: not the paper's reference)"
+                };
+                let _ = writeln!(o, "| profile {} N = {:.2} vs {reference}{note}: R², RMSE | {r2s}, {rmse:.4} | {paper} | {target} | {ok} |", p.shape.name(), p.n);
+            }
+        }
+        let _ = writeln!(o, "\nMRE is the paper's measure: the *maximum* over the tubes of |ε_mean − ε_Dixon|/ε_Dixon, ε_mean the mean over seeds of the bulk porosity over the row's voidprof window (z = 0–100 mm for the Table 3 beds). Spheres use N = D/dp, cylinders N = D/dpv (Dixon's own N). Rings: Dixon's hollow-cylinder coefficients are not available here, so rings are scored against the ring-envelope estimate (Dixon's cylinder form for the solid envelope, the hole added as void) — an approximation of ours, not literature. Profiles: ε_b of de Klerk fitted so that the correlation's cross-section mean equals the bed's bulk porosity; Mueller uses its own ε_b(N). Where a target is missed the numbers above say by how much; the beds were not tuned per case.\n");
+        let _ = writeln!(o, "Known reasons for misses, to weigh with the numbers: the engine's cylinder and ring contacts are not yet trustworthy (project README, Known limits), so cylinder and ring porosities say as much about the engine as about the method; beds listed above as not settled were measured at pack's time limit; and with few seeds (`REPEATS`) the mean carries the spread shown in the per-tube table.\n");
+    }
+
+    fn validation_tables(&self, o: &mut String) {
+        let _ = writeln!(o, "## Bulk porosity per tube (Table 3 beds)\n");
+        let _ = writeln!(
+            o,
+            "| shape | D (mm) | N = D/dp | N = D/dpv | seeds | ε per seed | ε mean | Dixon | relative error |"
+        );
+        let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|");
+        for (shape, tubes, _) in &self.validation {
+            for t in tubes {
+                let seeds: Vec<String> = t.porosity_seeds.iter().map(|p| format!("{p:.4}")).collect();
+                let _ = writeln!(
+                    o,
+                    "| {} | {} | {:.2} | {:.2} | {} | {} | {:.4} | {:.4} | {:+.1} % |",
+                    shape.name(),
+                    t.tube_diameter_mm,
+                    t.n,
+                    t.n_dpv,
+                    seeds.len(),
+                    seeds.join(", "),
+                    t.porosity_mean,
+                    t.dixon,
+                    100.0 * (t.porosity_mean - t.dixon) / t.dixon
+                );
+            }
+        }
+        o.push('\n');
+    }
+
+    fn loading(&self, o: &mut String) {
+        let _ = writeln!(o, "## Loading schemes (the paper's Table 2)\n");
+        let _ = writeln!(o, "| bed | shape | D (mm) | scheme | beds | ε mean ± std | Dixon | paper |");
+        let _ = writeln!(o, "|---|---|---|---|---|---|---|---|");
+        for g in self.groups.iter().filter(|g| g.row.study == "loading") {
+            let paper = if g.row.shape == Shape::Cylinder {
+                if g.row.config.ends_with("disturbed") {
+                    let v = PAPER_TABLE2.1;
+                    format!("{} (mean {:.3})", v.map(|x| format!("{x:.3}")).join(", "), v.iter().sum::<f64>() / 5.0)
+                } else {
+                    format!("{:.3}", PAPER_TABLE2.0)
+                }
+            } else {
+                "—".into()
+            };
+            let (eps, dixon) = match (mean_std(&g.porosities()), g.beds.first()) {
+                (Some((m, s)), Some(b)) => {
+                    (format!("{m:.4} ± {s:.4}"), format!("{:.4}", crate::analysis::dixon(g.row.shape, b.n_dp, b.n_dpv)))
+                }
+                _ => ("missing".into(), "—".into()),
+            };
+            let _ = writeln!(
+                o,
+                "| {} | {} | {} | {} (`{}`) | {} | {eps} | {dixon} | {paper} |",
+                g.row.config,
+                g.row.shape.name(),
+                g.row.tube_diameter_mm,
+                g.row.label,
+                g.row.scheme,
+                g.beds.len()
+            );
+        }
+        o.push('\n');
+    }
+
+    fn trends(&self, o: &mut String) {
+        let _ = writeln!(o, "## COR and friction (the paper's Figs. 10–11)\n");
+        let _ = writeln!(o, "The paper found denser beds (lower ε) at higher COR and at lower friction; the friction effect about 1.5 times the COR effect. Slope: least squares of ε over every bed of the series.\n");
+        let _ = writeln!(o, "| study | series | values (ε mean ± std, beds) | slope dε/dx | as the paper? |");
+        let _ = writeln!(o, "|---|---|---|---|---|");
+        if self.cor.is_empty() && self.friction.is_empty() {
+            let _ = writeln!(o, "| — | no bed of the COR or friction study has finished | | | |");
+        }
+        for (study, series, paper_sign) in [("COR", self.cor, -1.0), ("friction", self.friction, 1.0)] {
+            for s in series {
+                let vals: Vec<String> =
+                    s.points.iter().map(|p| format!("{}: {:.4} ± {:.4} ({})", p.0, p.1, p.2, p.3)).collect();
+                let (slope, agree) = match s.slope {
+                    Some(k) => (format!("{k:+.4}"), if k * paper_sign > 0.0 { "yes" } else { "**no**" }),
+                    None => ("—".into(), "—"),
+                };
+                let _ = writeln!(o, "| {study} | {} | {} | {slope} | {agree} |", s.label, vals.join("; "));
+            }
+        }
+        o.push('\n');
+    }
+}
