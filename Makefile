@@ -25,12 +25,13 @@ test: lint doc
 	$(CARGO) build --workspace --bins
 	$(CARGO) test --workspace
 
-# Speed figures (not tests): the engine pouring spheres, voidprof and
-# bedexport's stages on a 600-sphere bed. PELLET_BENCH_SIZES / _SIM_SECONDS /
-# _WALL_SECONDS tune the first.
+# Speed figures (not tests): the engine pouring spheres, cylinders and rings
+# with pack's contact model (PELLET_BENCH_CASES / _SIM_SECONDS / _WALL_SECONDS /
+# _MODE tune it, see crates/pellet_sim/benches/pack_beds.rs), voidprof, and
+# bedexport's stages on a 600-sphere bed.
 bench:
-	PELLET_BENCH_EXACT_ROWS=$${PELLET_BENCH_EXACT_ROWS:-16} $(CARGO) bench -p pellet_sim --bench pack_spheres
-	$(CARGO) bench -p pellet_sim --bench pack_cylinders
+	PELLET_BENCH_MODE=$${PELLET_BENCH_MODE:-recommended} PELLET_BENCH_EXACT_ROWS=$${PELLET_BENCH_EXACT_ROWS:-16} \
+	  $(CARGO) bench -p pellet_sim --bench pack_beds
 	$(CARGO) run --release -p pellet_analysis --example bench_voidprof
 	$(CARGO) run --release -p pellet_export --example bench_export
 

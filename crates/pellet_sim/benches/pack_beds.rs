@@ -1,16 +1,25 @@
-//! Packing benchmark for cylinders and Raschig rings (plain std::time), the companion of
-//! `pack_spheres`: equilateral 10 mm cylinders and 10/6/10 mm rings dropped as a loose random
-//! column (random orientations, bounding spheres apart) into tubes sized for a bed near 120 mm.
+//! Packing benchmark (plain std::time, issues 3 and 4): 10 mm spheres, equilateral 10 mm
+//! cylinders and 10/6/10 mm Raschig rings dropped from rest as a loose random column (random
+//! orientations, bounding spheres apart) into tubes sized for a bed near 120 mm.
 //!
-//! Run with `cargo bench -p pellet_sim --bench pack_cylinders` (`make bench` runs it). Cases are
-//! chosen by `PELLET_BENCH_CASES` (default `cyl:100,cyl:300,cyl:1000,ring:300,cyl:620@91.58`:
-//! kind:N[@tube mm]; without @ the tube diameter keeps the bed near 120 mm at porosity ≈ 0.4
-//! for cylinders, 0.55 for rings). `PELLET_BENCH_SIM_SECONDS` (default 1.0) and
-//! `PELLET_BENCH_WALL_SECONDS` (default 300) bound each case, as in the sphere bench; the table
-//! says how far a case got. Besides the sphere bench's figures it prints where the wall time
-//! went: narrow phase, collision phase, resting phase, position projection.
+//! Run with `cargo bench -p pellet_sim --bench pack_beds` (`make bench` runs it). Cases are
+//! chosen by `PELLET_BENCH_CASES` (default: `sph:100,sph:300,sph:1000,sph:690@79.9,cyl:100,
+//! cyl:300,cyl:1000,ring:300,cyl:620@91.58`: kind:N[@tube mm]; without @ the tube diameter
+//! keeps the bed near 120 mm at porosity ≈ 0.4 for spheres and cylinders, 0.55 for rings).
+//! `PELLET_BENCH_SIM_SECONDS` (default 1.0) and `PELLET_BENCH_WALL_SECONDS` (default 300) bound
+//! each case; the table says how far a case got. Engine: density 2000 kg/m³, e = 0.5, μ = 0.3;
+//! paper mode, or `pack`'s default contact model with `PELLET_BENCH_MODE=recommended`;
+//! `PELLET_BENCH_EXACT_ROWS` (default 64) the largest island solved by Baraff's method
+//! (`pack` uses 16); `PELLET_BENCH_SOLVER=pgs` plain PGS instead of APGD for larger islands.
+//!
+//! Printed per case: tube, wall and simulated time, substeps, contacts per substep (all /
+//! colliding / resting), solver iterations per substep, worst residual, unconverged islands,
+//! max penetration, KE at the end, top centre, wall time per pellet per simulated second, and
+//! where the wall time went: narrow phase, collision phase, resting phase, position projection.
 
-use pellet_sim::{BodyType, Container, EngineParams, Material, Pipeline, Quat, Vec3, WallMaterial, World};
+use pellet_sim::{
+    BodyType, Container, EngineParams, IterativeSolver, Material, Pipeline, Quat, Vec3, WallMaterial, World,
+};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::time::Instant;
@@ -27,6 +36,7 @@ fn tube_for(n: usize, v: f64, eps: f64) -> f64 {
 fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit: f64) {
     let ty = match kind {
         "ring" => BodyType::hollow_cylinder(0.003, 0.005, 0.005),
+        "sph" => BodyType::solid_sphere(0.005),
         _ => BodyType::solid_cylinder(0.005, 0.005),
     }
     .expect("type");
@@ -39,7 +49,14 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
         WallMaterial { cor: 0.5, friction: 0.3 },
         EngineParams {
             exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", 64.0) as usize,
-            ..EngineParams::default()
+            iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
+                Ok("pgs") => IterativeSolver::Pgs,
+                _ => IterativeSolver::Apgd,
+            },
+            ..match std::env::var("PELLET_BENCH_MODE").as_deref() {
+                Ok("recommended") => EngineParams::recommended(),
+                _ => EngineParams::default(),
+            }
         },
     )
     .expect("world");
@@ -61,12 +78,15 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
     let mut pipeline = Pipeline::new();
     let start = Instant::now();
     let (mut substeps, mut contacts, mut iterations, mut unconverged) = (0u64, 0u64, 0u64, 0u32);
+    let (mut colliding, mut resting) = (0u64, 0u64);
     let (mut residual, mut pen): (f64, f64) = (0.0, 0.0);
     let mut phases = [0.0f64; 4];
     while world.time() < sim_seconds && start.elapsed().as_secs_f64() < wall_limit {
         let rep = world.step(1.0 / 40.0, &mut pipeline).expect("step");
         substeps += rep.substeps as u64;
         contacts += rep.contacts;
+        colliding += rep.colliding;
+        resting += rep.resting;
         iterations += rep.solver_iterations;
         unconverged += rep.unconverged_islands;
         residual = residual.max(rep.solver_residual);
@@ -78,7 +98,7 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
     let pct = |x: f64| 100.0 * x / wall.max(1e-300);
     let zmax = world.bodies().iter().map(|b| b.position.z).fold(0.0, f64::max);
     println!(
-        "{:>5} {:>5} {:>7.2} {:>8.1} {:>7.3} {:>9} {:>9.1} {:>9.1} {:>9.2e} {:>6} {:>8.2e} {:>9.2e} {:>7.3} {:>5.0} {:>5.0} {:>5.0} {:>5.0}",
+        "{:>5} {:>5} {:>7.2} {:>8.1} {:>7.3} {:>9} {:>9.1} {:>6.2} {:>7.1} {:>9.1} {:>9.2e} {:>6} {:>8.2e} {:>9.2e} {:>7.3} {:>8.2} {:>5.0} {:>5.0} {:>5.0} {:>5.0}",
         kind,
         n,
         tube_d * 1e3,
@@ -86,12 +106,15 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
         world.time(),
         substeps,
         contacts as f64 / s,
+        colliding as f64 / s,
+        resting as f64 / s,
         iterations as f64 / s,
         residual,
         unconverged,
         pen / 0.01,
         world.kinetic_energy(),
         zmax,
+        wall / (n as f64 * world.time().max(1e-300)),
         pct(phases[0]),
         pct(phases[1]),
         pct(phases[2]),
@@ -103,7 +126,7 @@ fn main() {
     let sim = env("PELLET_BENCH_SIM_SECONDS", 1.0);
     let wall = env("PELLET_BENCH_WALL_SECONDS", 300.0);
     println!(
-        "{:>5} {:>5} {:>7} {:>8} {:>7} {:>9} {:>9} {:>9} {:>9} {:>6} {:>8} {:>9} {:>7} {:>5} {:>5} {:>5} {:>5}",
+        "{:>5} {:>5} {:>7} {:>8} {:>7} {:>9} {:>9} {:>6} {:>7} {:>9} {:>9} {:>6} {:>8} {:>9} {:>7} {:>8} {:>5} {:>5} {:>5} {:>5}",
         "kind",
         "N",
         "D[mm]",
@@ -111,19 +134,23 @@ fn main() {
         "sim[s]",
         "substeps",
         "contacts/",
+        "coll/",
+        "rest/",
         "solverit/",
         "worst res",
         "unconv",
         "pen/10mm",
         "KE end[J]",
         "top[m]",
+        "wall/N/s",
         "%nar",
         "%col",
         "%rest",
         "%proj"
     );
-    let cases = std::env::var("PELLET_BENCH_CASES")
-        .unwrap_or_else(|_| "cyl:100,cyl:300,cyl:1000,ring:300,cyl:620@91.58".into());
+    let cases = std::env::var("PELLET_BENCH_CASES").unwrap_or_else(|_| {
+        "sph:100,sph:300,sph:1000,sph:690@79.9,cyl:100,cyl:300,cyl:1000,ring:300,cyl:620@91.58".into()
+    });
     for c in cases.split(',') {
         let (kind, rest) = c.trim().split_once(':').unwrap_or(("cyl", c.trim()));
         let (n, tube) = match rest.split_once('@') {
