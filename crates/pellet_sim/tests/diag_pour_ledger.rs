@@ -7,8 +7,6 @@
 
 mod common;
 use common::*;
-use pellet_sim::{BodyType, Container, EngineParams, Quat, Vec3, World};
-use rand::{RngExt, SeedableRng};
 
 #[test]
 #[ignore]
@@ -16,22 +14,7 @@ fn diag_pour_ledger() {
     let n: usize = std::env::var("NP").ok().and_then(|s| s.parse().ok()).unwrap_or(12);
     let secs: f64 = std::env::var("SECS").ok().and_then(|s| s.parse().ok()).unwrap_or(1.0);
     let seed: u64 = std::env::var("SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(7);
-    let tube_d = 0.04;
-    let mut w =
-        World::new(Container::tube(tube_d).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), EngineParams::default())
-            .unwrap();
-    let cyl = w.register_type(BodyType::solid_cylinder(0.005, 0.005).unwrap()).unwrap();
-    let ring = w.register_type(BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap()).unwrap();
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    for k in 0..n {
-        let (layer, slot) = (k / 4, k % 4);
-        let (sx, sy) = [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)][slot];
-        let x = Vec3::new(0.0075 * sx, 0.0075 * sy, 0.01 + 0.015 * layer as f64);
-        let axis = Vec3::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
-        let q = Quat::from_scaled_axis(axis * 3.0);
-        let t = if k % 2 == 0 { cyl } else { ring };
-        add_q(&mut w, t, x, q, Vec3::zeros(), Vec3::zeros());
-    }
+    let mut w = mixed_pour(n, seed);
     let mut p = pellet_sim::Pipeline::new();
     let e0 = w.kinetic_energy() + w.potential_energy();
     let mut prev = e0;

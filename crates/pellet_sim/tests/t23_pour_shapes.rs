@@ -3,8 +3,7 @@
 
 mod common;
 use common::*;
-use pellet_sim::{BodyType, Container, EngineParams, Quat, Vec3, World};
-use rand::{RngExt, SeedableRng};
+use pellet_sim::{Vec3, World};
 
 /// Largest excursion of any rim point beyond the tube wall or below the floor, m.
 fn outside(w: &World, tube_r: f64) -> f64 {
@@ -24,21 +23,7 @@ fn outside(w: &World, tube_r: f64) -> f64 {
 /// Pours the 40 pellets for `seconds`; returns (max penetration, worst excursion, KE at end).
 pub fn pour(seconds: f64, seed: u64) -> (f64, f64, f64, World) {
     let tube_d = 0.04;
-    let mut w =
-        World::new(Container::tube(tube_d).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), EngineParams::default())
-            .unwrap();
-    let cyl = w.register_type(BodyType::solid_cylinder(0.005, 0.005).unwrap()).unwrap();
-    let ring = w.register_type(BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap()).unwrap();
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    for k in 0..40 {
-        let (layer, slot) = (k / 4, k % 4);
-        let (sx, sy) = [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)][slot];
-        let x = Vec3::new(0.0075 * sx, 0.0075 * sy, 0.01 + 0.015 * layer as f64);
-        let axis = Vec3::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
-        let q = Quat::from_scaled_axis(axis * 3.0);
-        let t = if k % 2 == 0 { cyl } else { ring };
-        add_q(&mut w, t, x, q, Vec3::zeros(), Vec3::zeros());
-    }
+    let mut w = mixed_pour(40, seed);
     let mut p = pellet_sim::Pipeline::new();
     let (mut pen, mut out) = (0.0f64, f64::NEG_INFINITY);
     for _ in 0..(seconds * 40.0) as usize {

@@ -4,8 +4,6 @@
 
 mod common;
 use common::*;
-use pellet_sim::{BodyType, Container, EngineParams, Quat, Vec3, World};
-use rand::{RngExt, SeedableRng};
 
 /// Before engine4's coupled friction guard, unconverged solves of one ~120-row island at
 /// t ≈ 0.567 s returned normal forces up to 5e2 N (the pellets weigh 0.015 N) and dynamic
@@ -16,19 +14,7 @@ use rand::{RngExt, SeedableRng};
 /// ~30 s wall in release.
 #[test]
 fn resting_friction_never_adds_energy_in_a_mixed_pour() {
-    let mut w = World::new(Container::tube(0.04).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), EngineParams::default())
-        .unwrap();
-    let cyl = w.register_type(BodyType::solid_cylinder(0.005, 0.005).unwrap()).unwrap();
-    let ring = w.register_type(BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap()).unwrap();
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-    for k in 0..20 {
-        let (layer, slot) = (k / 4, k % 4);
-        let (sx, sy) = [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)][slot];
-        let x = Vec3::new(0.0075 * sx, 0.0075 * sy, 0.01 + 0.015 * layer as f64);
-        let axis = Vec3::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
-        let t = if k % 2 == 0 { cyl } else { ring };
-        add_q(&mut w, t, x, Quat::from_scaled_axis(axis * 3.0), Vec3::zeros(), Vec3::zeros());
-    }
+    let mut w = mixed_pour(20, 7);
     let mut p = pellet_sim::Pipeline::new();
     let e0 = w.kinetic_energy() + w.potential_energy();
     let (mut prev, mut worst_friction, mut worst_gain, mut drops) = (e0, f64::INFINITY, f64::NEG_INFINITY, 0u32);

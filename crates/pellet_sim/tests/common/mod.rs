@@ -89,3 +89,25 @@ pub fn force_sum(p: &Pipeline, pick: impl Fn(&pellet_sim::Contact) -> bool) -> R
 pub fn with_bias(params: EngineParams) -> EngineParams {
     EngineParams { velocity_bias: true, ..params }
 }
+
+/// A mixed pour in a 40 mm tube, paper mode: `n` pellets alternating equilateral 10 mm
+/// cylinders and 10/6/10 mm Raschig rings, four per layer 15 mm apart, each turned by a random
+/// rotation of up to 3·½√3 rad (ChaCha8 from `seed`), at rest. Used by the pour proofs and the
+/// ledger diagnostic so they start from the same bed.
+pub fn mixed_pour(n: usize, seed: u64) -> World {
+    use rand::{RngExt, SeedableRng};
+    let mut w = World::new(Container::tube(0.04).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), EngineParams::default())
+        .unwrap();
+    let cyl = w.register_type(BodyType::solid_cylinder(0.005, 0.005).unwrap()).unwrap();
+    let ring = w.register_type(BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap()).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    for k in 0..n {
+        let (layer, slot) = (k / 4, k % 4);
+        let (sx, sy) = [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)][slot];
+        let x = Vec3::new(0.0075 * sx, 0.0075 * sy, 0.01 + 0.015 * layer as f64);
+        let axis = Vec3::new(rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5, rng.random::<f64>() - 0.5);
+        let t = if k % 2 == 0 { cyl } else { ring };
+        add_q(&mut w, t, x, Quat::from_scaled_axis(axis * 3.0), Vec3::zeros(), Vec3::zeros());
+    }
+    w
+}
