@@ -11,6 +11,10 @@ use common::*;
 /// the step's `removed_by_friction` was −8.0e-2 J (the bed held 3.5e-3 J). Measured after the
 /// guard (with the normal re-solve after a drop): every step's friction removal ≥ 0 (smallest
 /// 0 J), 109 friction forces dropped, total energy 1.01e-2 → 3.49e-3 J.
+/// Since the patch-ordering and normal-cone fixes that came after the guard, this bed no
+/// longer reaches the unconverged island: measured 2026-11-23, 0 forces dropped, and the test
+/// also passes with the guard switched off (`GUARD_ROUNDS = 0`). It still checks the energy of
+/// a mixed pour, but it is no longer a test of the guard; the guard needs a bed that does.
 /// ~30 s wall in release.
 #[test]
 fn resting_friction_never_adds_energy_in_a_mixed_pour() {
