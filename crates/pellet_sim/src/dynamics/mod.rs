@@ -3,7 +3,9 @@
 
 pub mod collide;
 pub mod friction_guard;
+pub mod friction_update;
 pub mod integrator;
+pub mod island_solve;
 pub mod islands;
 pub mod lcp;
 pub mod resting;

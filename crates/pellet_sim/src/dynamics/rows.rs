@@ -65,22 +65,28 @@ impl Row {
     }
 
     /// J_i · u for stacked body velocities `u` (6 per body: linear, angular).
+    #[inline]
     pub fn dot(&self, u: &[Real]) -> Real {
-        let g = |k: usize| Vec3::new(u[6 * k], u[6 * k + 1], u[6 * k + 2]);
-        let h = |k: usize| Vec3::new(u[6 * k + 3], u[6 * k + 4], u[6 * k + 5]);
-        let mut s = self.dir.dot(&g(self.a)) + self.ang_a.dot(&h(self.a));
+        // One slice per body (one bounds check each); sums in the order of Vec3::dot.
+        let dot6 = |l: &Vec3, w: &Vec3, k: usize| {
+            let v = &u[6 * k..6 * k + 6];
+            (l.x * v[0] + l.y * v[1] + l.z * v[2]) + (w.x * v[3] + w.y * v[4] + w.z * v[5])
+        };
+        let mut s = dot6(&self.dir, &self.ang_a, self.a);
         if let Some(b) = self.b {
-            s -= self.dir.dot(&g(b)) + self.ang_b.dot(&h(b));
+            s -= dot6(&self.dir, &self.ang_b, b);
         }
         s
     }
 
     /// u += s · M⁻¹ J_iᵀ.
+    #[inline]
     pub fn add_response(&self, s: Real, u: &mut [Real]) {
         let mut add = |k: usize, l: &Vec3, w: &Vec3| {
+            let v = &mut u[6 * k..6 * k + 6];
             for c in 0..3 {
-                u[6 * k + c] += s * l[c];
-                u[6 * k + 3 + c] += s * w[c];
+                v[c] += s * l[c];
+                v[3 + c] += s * w[c];
             }
         };
         add(self.a, &self.w[0], &self.w[1]);

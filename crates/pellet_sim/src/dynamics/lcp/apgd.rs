@@ -1,7 +1,7 @@
 //! Accelerated projected gradient descent (Nesterov with backtracking and adaptive restart), as
 //! in Chrono's ChSolverAPGD (physics.md §4.5). Matrix-free: needs only y ↦ A y.
 
-use super::{residual_from, LcpMatrix, LcpReport, LcpSolver, LcpStatus};
+use super::{LcpMatrix, LcpReport, LcpSolver, LcpStatus};
 use crate::math::Real;
 
 /// APGD solver.
@@ -21,6 +21,19 @@ fn dot(x: &[Real], y: &[Real]) -> Real {
     x.iter().zip(y).map(|(a, b)| a * b).sum()
 }
 
+/// `super::residual_from` with the diagonal read once per solve: it runs every iteration, and
+/// reading A_ii through the trait object was 2 % of a pack run (perf).
+fn residual(diag: &[Real], b: &[Real], f: &[Real], af: &[Real]) -> (Real, Real) {
+    let mut r: Real = 0.0;
+    let mut min_a: Real = 0.0;
+    for i in 0..f.len() {
+        let ai = af[i] + b[i];
+        r = r.max((diag[i] * f[i]).min(ai).abs());
+        min_a = min_a.min(ai);
+    }
+    (r, min_a)
+}
+
 impl LcpSolver for Apgd {
     fn solve(&mut self, a: &dyn LcpMatrix, b: &[Real], f: &mut [Real], tol: Real) -> LcpReport {
         let n = a.dim();
@@ -29,9 +42,10 @@ impl LcpSolver for Apgd {
         }
         let q = |x: &[Real], ax: &[Real]| 0.5 * dot(x, ax) + dot(b, x);
         let mut x: Vec<Real> = f.iter().map(|v| v.max(0.0)).collect();
+        let diag: Vec<Real> = (0..n).map(|i| a.diag(i)).collect();
         let mut ax = vec![0.0; n];
         a.mul(&x, &mut ax);
-        let (r0, m0) = residual_from(a, b, &x, &ax);
+        let (r0, m0) = residual(&diag, b, &x, &ax);
         let mut best = x.clone();
         let (mut r_best, mut min_a_best) = (r0, m0);
         if r_best <= tol {
@@ -43,7 +57,7 @@ impl LcpSolver for Apgd {
         let mut tmp = vec![0.0; n];
         a.mul(&ones, &mut tmp);
         let mut l = (dot(&tmp, &tmp).sqrt() / dot(&ones, &ones).sqrt().max(1e-300))
-            .max((0..n).map(|i| a.diag(i)).fold(0.0, Real::max))
+            .max(diag.iter().copied().fold(0.0, Real::max))
             .max(1e-300);
         let mut y = x.clone();
         let mut ay = ax.clone();
@@ -75,7 +89,7 @@ impl LcpSolver for Apgd {
             }
             let theta_n = (-theta * theta + theta * (theta * theta + 4.0).sqrt()) / 2.0;
             let beta = theta * (1.0 - theta) / (theta * theta + theta_n);
-            let (r, min_a) = residual_from(a, b, &xn, &axn);
+            let (r, min_a) = residual(&diag, b, &xn, &axn);
             if r < r_best {
                 best.copy_from_slice(&xn);
                 r_best = r;

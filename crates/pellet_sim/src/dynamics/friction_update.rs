@@ -1,0 +1,106 @@
+//! Friction at resting contacts for fixed normal forces (physics.md §4, the resting phase):
+//! dynamic friction −μ f along the slip at contacts slipping faster than εf, and static
+//! friction (a switch) by Gauss–Seidel on the tangential rows of the others.
+
+use super::rows::{Row, RowSystem};
+use crate::math::Real;
+use crate::params::{EngineParams, FrictionClamp};
+
+/// Gauss–Seidel sweeps of the static-friction rows per call of [`update_static`].
+const STATIC_SWEEPS: usize = 20;
+
+/// Whether a resting contact slides.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Friction {
+    /// Slip faster than εf: Coulomb force −μ f along the slip.
+    Dynamic,
+    /// Slip at most εf, static friction on: a force in the disc |g| ≤ μ f.
+    Static,
+}
+
+/// One frictional resting contact of an island.
+#[derive(Debug, Clone)]
+pub struct FrictionEntry {
+    /// Island-local index of the contact (its normal row).
+    pub contact: usize,
+    /// Dynamic or static.
+    pub kind: Friction,
+    /// Tangential row along t1 (the slip direction, or any tangent if there is no slip).
+    pub t1: Row,
+    /// Tangential row along t2 = n × t1.
+    pub t2: Row,
+    /// Slip velocity along t1 and t2 at the start of the substep, m/s.
+    pub slip: (Real, Real),
+    /// Friction coefficient.
+    pub mu: Real,
+}
+
+/// Dynamic contacts: −μ f along the slip, clamped so the slip does not reverse within dt.
+/// `clamped` records whether each contact is clamped; it is decided at the first call and then
+/// kept, so that a fixed point cannot toggle between the two branches.
+pub fn update_dynamic(
+    fric: &[FrictionEntry],
+    f: &[Real],
+    gt: &mut [(Real, Real)],
+    clamped: &mut [Option<bool>],
+    params: &EngineParams,
+    dt: Real,
+) {
+    for ((x, g), cl) in fric.iter().zip(gt.iter_mut()).zip(clamped.iter_mut()) {
+        if x.kind != Friction::Dynamic {
+            continue;
+        }
+        let mag = x.mu * f[x.contact];
+        let limit = x.slip.0 / (x.t1.diag * dt);
+        let is_clamped = *cl.get_or_insert(mag > limit);
+        *g = if !is_clamped {
+            (-mag, 0.0)
+        } else {
+            match params.friction_clamp {
+                FrictionClamp::Stick => (-limit, 0.0),
+                FrictionClamp::Zero => (0.0, 0.0),
+            }
+        };
+    }
+}
+
+/// Static contacts: Gauss–Seidel on the tangential rows, target tangential velocity zero at the
+/// end of the substep, each force inside the disc |g| ≤ μ f. `free_t` is the free tangential
+/// acceleration of each entry along t1 and t2.
+pub fn update_static(
+    fric: &[FrictionEntry],
+    free_t: &[(Real, Real)],
+    sys: &RowSystem,
+    f: &[Real],
+    gt: &mut [(Real, Real)],
+    dt: Real,
+) {
+    if !fric.iter().any(|x| x.kind == Friction::Static) {
+        return;
+    }
+    let mut acc = sys.response(f);
+    for (x, g) in fric.iter().zip(gt.iter()) {
+        x.t1.add_response(g.0, &mut acc);
+        x.t2.add_response(g.1, &mut acc);
+    }
+    for _ in 0..STATIC_SWEEPS {
+        for ((x, g), ft) in fric.iter().zip(gt.iter_mut()).zip(free_t) {
+            if x.kind != Friction::Static {
+                continue;
+            }
+            let a1 = ft.0 + x.t1.dot(&acc) + x.slip.0 / dt;
+            let a2 = ft.1 + x.t2.dot(&acc) + x.slip.1 / dt;
+            let mut n1 = g.0 - a1 / x.t1.diag;
+            let mut n2 = g.1 - a2 / x.t2.diag;
+            let norm = (n1 * n1 + n2 * n2).sqrt();
+            let cap = x.mu * f[x.contact];
+            if norm > cap {
+                n1 *= cap / norm;
+                n2 *= cap / norm;
+            }
+            x.t1.add_response(n1 - g.0, &mut acc);
+            x.t2.add_response(n2 - g.1, &mut acc);
+            *g = (n1, n2);
+        }
+    }
+}
