@@ -218,6 +218,12 @@ impl PackConfig {
             (None, Some(h)) => Amount::FillHeight(check("fill-height", h, 0.0, f64::INFINITY, true, " mm")? * mm),
             (None, None) => return Err(ConfigError("give --count N or --fill-height MM".into())),
         };
+        let scheme = o.scheme.unwrap_or(LoadingScheme::OneColumn);
+        if scheme == LoadingScheme::Batch && matches!(amount, Amount::FillHeight(_)) {
+            return Err(ConfigError(
+                "the batch scheme places every pellet at once: give --count N instead of --fill-height".into(),
+            ));
+        }
         Ok(PackConfig {
             pellet,
             tube_diameter_m: check("tube-diameter", tube, 0.0, f64::INFINITY, true, " mm")? * mm,
@@ -231,7 +237,7 @@ impl PackConfig {
             drop_height_m: check("drop-height", o.drop_height.unwrap_or(30.0), 0.0, 1e4, true, " mm")? * mm,
             record_every_s: check("record-every", o.record_every.unwrap_or(0.01), 0.0, 1e3, true, " s")?,
             max_time_s: check("max-time", o.max_time.unwrap_or(120.0), 0.0, 1e6, true, " s")?,
-            scheme: o.scheme.unwrap_or(LoadingScheme::OneColumn),
+            scheme,
             tilt_rad: check("tilt", o.tilt.unwrap_or(45.0), 0.0, 90.0, false, "°")?.to_radians(),
             position_jitter_dp: check("position-jitter", o.position_jitter.unwrap_or(0.1), 0.0, 10.0, false, " dp")?,
             angle_jitter_rad: check("angle-jitter", o.angle_jitter.unwrap_or(5.0), 0.0, 180.0, false, "°")?

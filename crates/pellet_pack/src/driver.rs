@@ -10,7 +10,7 @@ use pellet_settle::{check_settled, EnergySample, SettleCriteria, SettleReport};
 use pellet_sim::{BodyType, Container, EngineParams, Material, Pipeline, ShapeDesc, Vec3, WallMaterial, World};
 
 use crate::config::{Amount, ContactModel, PackConfig};
-use crate::loading::{FeedParams, Feeder};
+use crate::loading::{FeedParams, Feeder, LoadingScheme};
 
 /// Length of one engine step (s): the energy channel gets a record per
 /// step, so this is also its time resolution. The engine sub-steps inside.
@@ -236,6 +236,15 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
     let mut pipeline = Pipeline::new();
     let mut history: Vec<EnergySample> = Vec::new();
     let mut feeding = true;
+    // The batch scheme places every pellet at t = 0 (config.rs requires a count for it).
+    if let (LoadingScheme::Batch, Amount::Count(n)) = (config.scheme, config.amount) {
+        for spawn in feeder.batch(n) {
+            world
+                .add_body(type_id, spawn.position, spawn.orientation, Vec3::zeros(), Vec3::zeros())
+                .map_err(|e| PackError::Engine { time_s: 0.0, message: e.to_string() })?;
+        }
+        feeding = false;
+    }
     let mut next_entry = 0.0;
     let mut next_frame = 0.0;
     let mut max_penetration: f64 = 0.0;

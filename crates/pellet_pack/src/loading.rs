@@ -15,6 +15,12 @@
 //!   high above the surface (default 20 dp), as by a dense-loading device
 //!   (a rotating spreader): high impact speeds and a surface that builds
 //!   layer by layer, which gives dense beds.
+//! - **batch**: every pellet at once, as a loose random cloud filling the
+//!   tube from the floor up (bounding spheres apart, a quarter of the
+//!   cloud's volume inside them), in random orientations, released from rest:
+//!   the usual set-up of DEM settling studies (physics.md T14). Its fall is
+//!   short and all pellets move together, so a bed of hundreds of pellets
+//!   needs about a second of simulated time instead of tens.
 //!
 //! Every random number comes from one ChaCha8 stream seeded by the run's
 //! seed, so the same seed gives the same sequence of pellets on any machine.
@@ -23,6 +29,11 @@ use nalgebra::{Unit, UnitQuaternion, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+
+/// Share of the batch cloud's volume inside the pellets' bounding spheres.
+pub const BATCH_FILL: f64 = 0.25;
+/// Smallest gap between bounding spheres in the batch cloud, in bounding radii.
+pub const BATCH_GAP: f64 = 0.02;
 
 /// Where and how pellets enter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -38,6 +49,8 @@ pub enum LoadingScheme {
     Sock,
     /// Dense loading: high drop, uniform over the cross-section.
     Dense,
+    /// All pellets at once: a loose random cloud released from rest.
+    Batch,
 }
 
 /// A new pellet: centroid position (m), orientation (body → world), velocity (m/s).
@@ -103,7 +116,9 @@ impl Feeder {
                 let a = std::f64::consts::FRAC_PI_2 * (n % 4) as f64;
                 Vector3::new(ring * a.cos(), ring * a.sin(), 0.0)
             }
-            LoadingScheme::Sock | LoadingScheme::Dense => self.uniform_in_disc(self.max_offset()),
+            LoadingScheme::Sock | LoadingScheme::Dense | LoadingScheme::Batch => {
+                self.uniform_in_disc(self.max_offset())
+            }
         }
     }
 
@@ -155,7 +170,7 @@ impl Feeder {
             place *= limit / r;
         }
         let orientation = match p.scheme {
-            LoadingScheme::Sock | LoadingScheme::Dense => self.uniform_rotation(),
+            LoadingScheme::Sock | LoadingScheme::Dense | LoadingScheme::Batch => self.uniform_rotation(),
             _ => {
                 // Tilt about a horizontal axis; the paper's scheme 1 tilts by 45°.
                 let tilt = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), p.tilt);
@@ -164,6 +179,54 @@ impl Feeder {
         };
         self.count += 1;
         Spawn { position: Vector3::new(place.x, place.y, bed_top + p.drop_height), orientation }
+    }
+
+    /// The batch scheme's cloud of `n` pellets: centres uniform over the cross-section (clear of
+    /// the wall) and over a height that grows with the count so that the bounding spheres fill
+    /// [`BATCH_FILL`] of the cloud's volume, at least [`BATCH_GAP`] bounding radii apart (no
+    /// contact at release), lowest centre one bounding radius above the floor. Random sequential
+    /// addition on a hash grid; deterministic for a seed.
+    pub fn batch(&mut self, n: u32) -> Vec<Spawn> {
+        let rb = self.params.bounding_radius;
+        let offset = self.max_offset();
+        let min_dist = (2.0 + BATCH_GAP) * rb;
+        // Height per pellet at the target fill of the tube's cross-section.
+        let area = std::f64::consts::PI * self.params.tube_radius.powi(2);
+        let per_pellet = 4.0 / 3.0 * std::f64::consts::PI * rb.powi(3) / (area * BATCH_FILL);
+        let cell = min_dist;
+        let mut grid: std::collections::HashMap<(i64, i64, i64), Vec<usize>> = std::collections::HashMap::new();
+        let key =
+            |p: &Vector3<f64>| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64, (p.z / cell).floor() as i64);
+        let mut out: Vec<Spawn> = Vec::with_capacity(n as usize);
+        let z0 = (1.0 + BATCH_GAP) * rb;
+        let mut top = z0 + 2.0 * rb;
+        for k in 0..n as usize {
+            top = top.max(z0 + (k + 1) as f64 * per_pellet + 2.0 * rb);
+            let position = loop {
+                let xy = self.uniform_in_disc(offset);
+                let z = self.rng.random_range(z0..=top);
+                let p = Vector3::new(xy.x, xy.y, z);
+                let (i, j, l) = key(&p);
+                let clear = (-1..=1).all(|di| {
+                    (-1..=1).all(|dj| {
+                        (-1..=1).all(|dl| {
+                            grid.get(&(i + di, j + dj, l + dl))
+                                .is_none_or(|v| v.iter().all(|&q| (out[q].position - p).norm() >= min_dist))
+                        })
+                    })
+                });
+                if clear {
+                    break p;
+                }
+                // A crowded cloud grows rather than searching forever.
+                top += 1e-3 * rb;
+            };
+            grid.entry(key(&position)).or_default().push(k);
+            let orientation = self.uniform_rotation();
+            out.push(Spawn { position, orientation });
+            self.count += 1;
+        }
+        out
     }
 
     /// How many pellets have been produced.
@@ -250,5 +313,28 @@ mod tests {
         assert!(again.iter().all(|q| *q == h.next(0.0).orientation));
         let mut other = Feeder::new(p, 6);
         assert_ne!(other.next(0.0).orientation, again[0]);
+    }
+
+    #[test]
+    fn the_batch_cloud_is_clear_of_wall_floor_and_itself_and_fills_a_quarter() {
+        let p = params(LoadingScheme::Batch);
+        let cloud = Feeder::new(p, 4).batch(300);
+        assert_eq!(cloud.len(), 300);
+        let rb = p.bounding_radius;
+        for (i, s) in cloud.iter().enumerate() {
+            assert!(s.position.xy().norm() + rb < p.tube_radius, "{i}: {:?}", s.position);
+            assert!(s.position.z - rb >= BATCH_GAP * rb - 1e-15, "{i}: {:?}", s.position);
+            for t in &cloud[..i] {
+                assert!((s.position - t.position).norm() >= (2.0 + BATCH_GAP) * rb);
+            }
+        }
+        // The bounding spheres fill about BATCH_FILL of the cloud's cylinder.
+        let top = cloud.iter().map(|s| s.position.z).fold(0.0, f64::max) + rb;
+        let fill = 300.0 * 4.0 / 3.0 * std::f64::consts::PI * rb.powi(3)
+            / (std::f64::consts::PI * p.tube_radius.powi(2) * top);
+        assert!(fill > 0.8 * BATCH_FILL && fill < BATCH_FILL, "fill {fill}");
+        let again = Feeder::new(p, 4).batch(300);
+        assert!(cloud.iter().zip(&again).all(|(a, b)| a == b));
+        assert_ne!(Feeder::new(p, 5).batch(1)[0], cloud[0]);
     }
 }

@@ -23,6 +23,7 @@ Examples:
   pack --pellet s.pellet --tube-diameter 40 --count 40 -o small.mcap --quiet
   pack --case cases/cyl-N7.toml --seed 3 -o bed.mcap      (flags override the case file)
   pack --pellet r.pellet --tube-diameter 40.45 --count 200 --scheme four-columns --cor 0.6 -o r.mcap
+  pack --pellet s.pellet --tube-diameter 100 --count 1000 --scheme batch -o t14.mcap
 
 A case file (TOML, or JSON starting with '{') holds any of the flags below,
 spelled the same: tube-diameter = 69.83, fill-height = 120, scheme = \"sock\", ...
@@ -142,6 +143,8 @@ enum SchemeArg {
     Sock,
     /// Dense loading: high drop, spread over the cross-section (dense beds).
     Dense,
+    /// Every pellet at once, a loose random cloud released from rest (needs --count).
+    Batch,
 }
 
 impl From<SchemeArg> for LoadingScheme {
@@ -152,6 +155,7 @@ impl From<SchemeArg> for LoadingScheme {
             SchemeArg::FourColumns => LoadingScheme::FourColumns,
             SchemeArg::Sock => LoadingScheme::Sock,
             SchemeArg::Dense => LoadingScheme::Dense,
+            SchemeArg::Batch => LoadingScheme::Batch,
         }
     }
 }
@@ -284,14 +288,22 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
 }
 
 /// How tall to draw the tube in the viewer (m): the fill height or the height of
-/// the bed at a loose porosity of 0.5, plus the drop height.
+/// the bed at a loose porosity of 0.5, plus the drop height; for the batch
+/// scheme the height of its initial cloud.
 fn viewer_tube_height(config: &PackConfig, pellet: &pellet_geom::Pellet) -> f64 {
     let area = std::f64::consts::PI * config.tube_diameter_m.powi(2) / 4.0;
     let bed = match config.amount {
         Amount::Count(n) => f64::from(n) * pellet.properties.volume / (0.5 * area),
         Amount::FillHeight(h) => h,
     };
-    bed + config.drop_height_m + pellet.bounding_radius
+    let rb = pellet.bounding_radius;
+    match (config.scheme, config.amount) {
+        (LoadingScheme::Batch, Amount::Count(n)) => {
+            let sphere = 4.0 / 3.0 * std::f64::consts::PI * rb.powi(3);
+            f64::from(n) * sphere / (area * pellet_pack::BATCH_FILL) + 3.0 * rb
+        }
+        _ => bed + config.drop_height_m + rb,
+    }
 }
 
 /// Writes frames and energy records to the MCAP file and shows progress.

@@ -174,3 +174,28 @@ fn foxglove_channels_place_every_pellet_of_every_frame() {
         }
     }
 }
+
+#[test]
+fn the_batch_scheme_releases_every_pellet_at_once_and_settles() {
+    let dir = setup();
+    let args = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "12", "--scheme", "batch", "--quiet"];
+    let mut a = args.to_vec();
+    a.extend(["-o", "batch.mcap"]);
+    let out = pack(dir.path(), &a);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let t = pellet_io::read_trajectory(&std::fs::read(dir.path().join("batch.mcap")).unwrap(), "batch.mcap").unwrap();
+    assert_eq!(t.frames[0].positions.len(), 12, "all pellets are there at t = 0");
+    assert_eq!(t.frames[0].time_s, 0.0);
+    for p in &t.frames.last().unwrap().positions {
+        assert!(p[0].hypot(p[1]) <= 0.010 + 1e-4 && p[2] >= 0.005 - 1e-4, "{p:?}");
+    }
+    // A batch needs a count: with a fill height it is a one-line error.
+    let mut f: Vec<&str> = args.iter().copied().filter(|s| *s != "--count" && *s != "12").collect();
+    f.extend(["--fill-height", "40", "-o", "f.mcap"]);
+    let out = pack(dir.path(), &f);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("batch") && err.contains("--count"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(!dir.path().join("f.mcap").exists());
+}
