@@ -4,7 +4,7 @@ CARGO ?= cargo
 OUT ?= out
 BIN := target/release
 
-.PHONY: all build pipeline test lint doc bench clean paper paper-validation paper-loading paper-cor paper-friction paper-report
+.PHONY: all build pipeline test lint doc bench t14 clean paper paper-validation paper-loading paper-cor paper-friction paper-report
 
 all: pipeline
 
@@ -34,6 +34,11 @@ bench:
 	  $(CARGO) bench -p pellet_sim --bench pack_beds
 	$(CARGO) run --release -p pellet_analysis --example bench_voidprof
 	$(CARGO) run --release -p pellet_export --example bench_export
+
+# physics.md T14 (not a test: minutes of one core): 1000 spheres in a 100 mm
+# tube, batch loading, scored against the correlations (pipelines/t14.mk).
+t14: build
+	$(MAKE) --no-print-directory -f pipelines/t14.mk BIN=$(BIN) OUT=$(OUT)/t14
 
 # The paper's study (pipelines/paper.mk, README "The paper's study"):
 # beds under $(PAPER_OUT), the report in $(PAPER_DOCS). REPEATS=k runs seeds
