@@ -1,9 +1,11 @@
 //! Energy of a small mixed pour (10 cylinders and 10 Raschig rings, 10 mm, 40 mm tube, paper
 //! mode, 0.6 s): resting friction never adds energy, and the total energy never rises beyond the
 //! logged projection and resting-normal work (physics.md §7 T13 b for non-spherical pellets).
+//! And the friction energy guard (`dynamics/friction_guard.rs`) on a scene where it must act.
 
 mod common;
 use common::*;
+use pellet_sim::{BodyType, Container, EngineParams, Quat, Vec3};
 
 /// Before engine4's coupled friction guard, unconverged solves of one ~120-row island at
 /// t ≈ 0.567 s returned normal forces up to 5e2 N (the pellets weigh 0.015 N) and dynamic
@@ -11,10 +13,14 @@ use common::*;
 /// the step's `removed_by_friction` was −8.0e-2 J (the bed held 3.5e-3 J). Measured after the
 /// guard (with the normal re-solve after a drop): every step's friction removal ≥ 0 (smallest
 /// 0 J), 109 friction forces dropped, total energy 1.01e-2 → 3.49e-3 J.
-/// Since the patch-ordering and normal-cone fixes that came after the guard, this bed no
-/// longer reaches the unconverged island: measured 2026-11-23, 0 forces dropped, and the test
-/// also passes with the guard switched off (`GUARD_ROUNDS = 0`). It still checks the energy of
-/// a mixed pour, but it is no longer a test of the guard; the guard needs a bed that does.
+/// After the patch-ordering and normal-cone fixes that came after the guard, this bed no longer
+/// reached the unconverged island (0 forces dropped, and it passed with `GUARD_ROUNDS = 0`).
+/// Since the patch reduction prefers touching points (branch `pen`, NOTES.md problem 2) more
+/// redundant touching points carry dynamic friction, each clamped with its own diagonal only,
+/// and the guard acts again: measured 2026-11-23, 2705 forces dropped, E 1.01e-2 → 3.92e-3 J,
+/// smallest friction removal 0 J (84 drops with only the edge-face fix); with `GUARD_ROUNDS = 0`
+/// it fails again (one step's friction removal −6.3e-4 J, E ends at 3.69e-3 J). The small
+/// deterministic test of the guard is `friction_guard_drops_...` below.
 /// ~30 s wall in release.
 #[test]
 fn resting_friction_never_adds_energy_in_a_mixed_pour() {
@@ -38,4 +44,39 @@ fn resting_friction_never_adds_energy_in_a_mixed_pour() {
     );
     assert!(worst_friction >= -1e-9, "resting friction added {:.3e} J in one step", -worst_friction);
     assert!(prev < e0, "the pour gained energy");
+}
+
+/// A Ø4 × 10 mm pin leaning at 45° on the floor, its foot sliding at 0.4 mm/s towards the side
+/// it leans to (μ = 0.05, paper mode with εf lowered to 1e-5 m/s so that this slow slip is
+/// dynamic). The floor's normal force on the foot pushes the foot back (the pin starts to fall
+/// the other way), which the per-contact clamp of dynamic friction does not see: it limits
+/// μ f by friction's own effect on the slip only. Normal force and friction together reverse
+/// the slip within the substep, so μ f would do positive work. Measured 2026-11-23: the guard
+/// drops that one force (1 drop in the first substep) and every substep's friction removal is
+/// ≥ 0; with `GUARD_ROUNDS = 0` there are no drops and the friction removal of that substep is
+/// −1.3e-11 J (positive work; the pin's potential energy scale m g h is ~2.5e-5 J, round-off
+/// ~1e-20 J). Runs in milliseconds.
+#[test]
+fn friction_guard_drops_friction_that_would_do_positive_work() {
+    let (r, h, tilt) = (0.002, 0.005, 45f64.to_radians());
+    let params = EngineParams { eps_f: 1e-5, ..EngineParams::default() };
+    let ty = BodyType::solid_cylinder(r, h).unwrap();
+    let (mut w, t) = shape_world(Container::tube(0.1).unwrap(), ty, material(0.5, 0.05), wall(0.5, 0.05), params);
+    // Axis tilted about y: the lower rim's lowest point, at −x of the centre, touches the floor.
+    let q = Quat::from_scaled_axis(Vec3::new(0.0, tilt, 0.0));
+    let z = h * tilt.cos() + r * tilt.sin() + 1e-9;
+    add_q(&mut w, t, Vec3::new(0.0, 0.0, z), q, Vec3::new(4e-4, 0.0, 0.0), Vec3::zeros());
+    let mut p = pellet_sim::Pipeline::new();
+    let (mut drops, mut worst) = (0u32, f64::INFINITY);
+    // Steps of one substep (dt_cap) so that each friction removal is one substep's.
+    for _ in 0..8 {
+        let rep = w.step(2.5e-4, &mut p).unwrap();
+        drops += rep.friction_guard_drops;
+        worst = worst.min(rep.energy.removed_by_friction);
+    }
+    println!(
+        "leaning pin: friction forces dropped by the guard {drops}, smallest friction removal per step {worst:.3e} J"
+    );
+    assert!(drops > 0, "the guard did not act");
+    assert!(worst >= -1e-15, "resting friction added {:.3e} J in one step", -worst);
 }

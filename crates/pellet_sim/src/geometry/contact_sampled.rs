@@ -17,7 +17,8 @@ const SIDE_B: u32 = 1 << 31;
 const REFINED: u32 = 1 << 30;
 /// Normals closer than this (cosine) share a patch (physics.md §6.4).
 const PATCH_COS: Real = 0.98;
-/// How much deeper (× the other body's bounding radius) the alternative face of an edge may be.
+/// How much deeper (× the other body's bounding radius) the alternative face of an edge may be
+/// when the SDF's own face is one that the sample's surface does not allow (`MIN_ALIGN`).
 const FACE_SWITCH: Real = 0.02;
 /// An edge hit joins a patch if its normal is within ~2.6° of both bodies' normal cones.
 const WEDGE_COS: Real = 0.999;
@@ -30,6 +31,12 @@ const EDGE_EPS: Real = 1e-9;
 /// at every stacked interface were the trigger of the 5-stack blow-up (NOTES.md, problem 1).
 /// Round-off made the old `> 0` test pass them (alignment ~1e-7).
 const MIN_ALIGN: Real = 0.1;
+/// Points within this many bounding radii of a patch's smallest gap count as touching when the
+/// patch is reduced (2e-3 R_b = δ_c for the default contact distance 1e-3 d, d = 2 R_b).
+pub(crate) const NEAR_BAND: Real = 2e-3;
+/// A touching point is preferred in the reduction if it adds at least this fraction of the
+/// patch's extent (distance, or triangle height).
+const SPREAD: Real = 0.05;
 /// Golden-section iterations of the rim refinement (interval × 0.618²⁴ ≈ 1e-5).
 const GOLDEN_ITERS: usize = 24;
 
@@ -112,9 +119,10 @@ impl<'a> OneWay<'a> {
     /// exactly over an equal rim, where the Euclidean SDF reports the lateral face at depth 0).
     ///
     /// Inside dst near an edge, or within round-off (`EDGE_EPS` · R_b) of an edge outside, the
-    /// SDF's face is swapped for the other face of the edge if that one is at most
-    /// `FACE_SWITCH` · R_b deeper and faces src's surface better: for stacked cylinders this
-    /// gives the cap normal instead of a radial one from round-off.
+    /// SDF's face is swapped for the other face of the edge if that one faces src's surface
+    /// better and is either as deep up to round-off, or, when src's surface does not allow the
+    /// SDF's face at all, at most `FACE_SWITCH` · R_b deeper: for stacked cylinders this gives
+    /// the cap normal instead of a radial one from round-off.
     fn hit(&self, s: &Vec3, i: usize, feature: u32) -> Option<Hit> {
         let pd = self.m * s + self.t;
         let (mut phi, mut g) = eval(self.dst.shape, &pd);
@@ -124,7 +132,13 @@ impl<'a> OneWay<'a> {
         let r_dst = self.dst.geom.bounding_radius;
         for (phi2, g2) in edge_faces(self.dst.shape, &pd, EDGE_EPS * r_dst).into_iter().flatten() {
             let a2 = cone_alignment(&-g2, &cone);
-            if phi2 >= phi - FACE_SWITCH * r_dst && a2 > align {
+            // A face that src's surface allows keeps the SDF's (shallowest) depth unless the
+            // other face is as shallow up to round-off: a rim inside dst near dst's edge has both
+            // faces in its cone, and taking the better-aligned, deeper face measured up to
+            // FACE_SWITCH · R_b = 1.4e-4 m of penetration that was not there (t23's 1.06e-4 m:
+            // true depth 3.7e-6 m, NOTES.md problem 2).
+            let tie = if align > MIN_ALIGN { EDGE_EPS * r_dst } else { FACE_SWITCH * r_dst };
+            if phi2 >= phi - tie && a2 > align {
                 (phi, g, align) = (phi2, g2, a2);
             }
         }
@@ -230,7 +244,8 @@ pub fn sampled_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<C
     for patch in patches(&mut hits) {
         let first = &hits[patch[0]];
         let (normal, owner) = (first.normal, first.owner);
-        for k in reduce(&hits, &patch, &normal) {
+        let band = NEAR_BAND * a.geom.bounding_radius.min(b.geom.bounding_radius);
+        for k in reduce(&hits, &patch, &normal, band) {
             out.push(contact(&a, &b, &hits[k], normal, owner));
         }
     }
@@ -319,21 +334,48 @@ pub(crate) fn patches(hits: &mut [Hit]) -> Vec<Vec<usize>> {
 
 /// Reduces a patch to ≤ 4 points (physics.md §6.4): the deepest, the farthest from it, the one
 /// making the largest triangle, and the one adding the most area outside that triangle.
-pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3) -> Vec<usize> {
+///
+/// Each pick is made first among the points within `band` of the patch's smallest gap (the ones
+/// touching now), and among all points only when those add less than `SPREAD` of the patch's
+/// extent. Why: the patch holds every hit up to the look-ahead gap δ_c + v_max δt (~1.6e-4 m in
+/// a pour), and picking by area alone kept rim samples 1.1–1.4e-4 m away while dropping the
+/// refined rim point 3.5e-7 m away that was the patch's second real contact; the pellet then
+/// rotated about the one kept contact and that rim point sank 8.3e-5 m within one substep
+/// (t23, NOTES.md problem 2). A flat patch has all its points in the band: unchanged.
+pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real) -> Vec<usize> {
     if patch.len() <= 4 {
         return patch.to_vec();
     }
     let p = |k: usize| hits[patch[k]].pa;
-    let argmax = |f: &dyn Fn(usize) -> Real| {
-        (0..patch.len()).fold((0, Real::NEG_INFINITY), |best, k| if f(k) > best.1 { (k, f(k)) } else { best })
+    let g_min = patch.iter().map(|&k| hits[k].gap).fold(Real::INFINITY, Real::min);
+    let near = |k: usize| hits[patch[k]].gap <= g_min + band;
+    let best = |f: &dyn Fn(usize) -> Real, pick: &dyn Fn(usize) -> bool| {
+        (0..patch.len()).filter(|&k| pick(k)).fold((0, Real::NEG_INFINITY), |best, k| {
+            if f(k) > best.1 {
+                (k, f(k))
+            } else {
+                best
+            }
+        })
+    };
+    // The best near point if it adds at least `floor`, else the best of all points.
+    let argmax = |f: &dyn Fn(usize) -> Real, floor: Real| {
+        let b = best(f, &near);
+        if b.1 > floor {
+            b
+        } else {
+            best(f, &|_| true)
+        }
     };
     let i0 = 0;
-    let (i1, d1) = argmax(&|k| (p(k) - p(i0)).norm_squared());
+    let extent = best(&|k| (p(k) - p(i0)).norm(), &|_| true).1;
+    let (i1, d1) = argmax(&|k| (p(k) - p(i0)).norm_squared(), (SPREAD * extent).powi(2));
     if d1 <= 0.0 {
         return vec![patch[i0]];
     }
     let area = |u: usize, v: usize, q: usize| n.dot(&(p(v) - p(u)).cross(&(p(q) - p(u))));
-    let (i2, a2) = argmax(&|k| area(i0, i1, k).abs());
+    let floor = SPREAD * extent * d1.sqrt();
+    let (i2, a2) = argmax(&|k| area(i0, i1, k).abs(), floor);
     if a2 <= 0.0 {
         return vec![patch[i0], patch[i1]];
     }
@@ -342,7 +384,7 @@ pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3) -> Vec<usize> {
     let outside = |k: usize| {
         [(i0, i1), (i1, i2), (i2, i0)].iter().map(|&(u, v)| -sigma * area(u, v, k)).fold(Real::NEG_INFINITY, Real::max)
     };
-    let (i3, a3) = argmax(&outside);
+    let (i3, a3) = argmax(&outside, floor);
     let mut keep = vec![patch[i0], patch[i1], patch[i2]];
     if a3 > 0.0 {
         keep.push(patch[i3]);

@@ -8,7 +8,7 @@
 //! Mesh shapes: their samples, reduced to ≤ 4 points per wall.
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
-use super::contact_sampled::{golden_min, reduce, Hit};
+use super::contact_sampled::{golden_min, reduce, Hit, NEAR_BAND};
 use super::narrow_phase::Pellet;
 use super::samples::rim_point;
 use crate::container::{Container, WallId};
@@ -127,7 +127,7 @@ fn samples_wall(container: &Container, wall: WallId, a: &Pellet<'_>, max_gap: Re
     let mut order: Vec<usize> = (0..hits.len()).collect();
     order.sort_by(|&i, &j| hits[i].gap.total_cmp(&hits[j].gap).then(i.cmp(&j)));
     let n = hits[order[0]].normal;
-    for k in reduce(&hits, &order, &n) {
+    for k in reduce(&hits, &order, &n, NEAR_BAND * a.geom.bounding_radius) {
         let h = &hits[k];
         out.push(make(a, wall, h.pa, h.normal, h.gap, kins[k], h.feature));
     }
