@@ -15,7 +15,7 @@ pub mod loading;
 
 pub use config::{Amount, ContactModel, PackConfig, PackOptions};
 pub use driver::{check_setup, run_pack, Ending, PackError, Progress, RunSink, RunSummary};
-pub use loading::{Feeder, LoadingScheme, Spawn, BATCH_FILL};
+pub use loading::{batch_height_per_pellet, Feeder, LoadingScheme, Spawn};
 
 /// A configuration value out of range; the message names the flag and the range.
 #[derive(Debug, thiserror::Error)]

@@ -35,6 +35,13 @@ pub const BATCH_FILL: f64 = 0.25;
 /// Smallest gap between bounding spheres in the batch cloud, in bounding radii.
 pub const BATCH_GAP: f64 = 0.02;
 
+/// Height the batch cloud grows by per pellet (m) so that the bounding spheres (radius `rb`)
+/// fill [`BATCH_FILL`] of a tube of radius `tube_radius`.
+pub fn batch_height_per_pellet(rb: f64, tube_radius: f64) -> f64 {
+    let area = std::f64::consts::PI * tube_radius.powi(2);
+    4.0 / 3.0 * std::f64::consts::PI * rb.powi(3) / (area * BATCH_FILL)
+}
+
 /// Where and how pellets enter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -191,8 +198,7 @@ impl Feeder {
         let offset = self.max_offset();
         let min_dist = (2.0 + BATCH_GAP) * rb;
         // Height per pellet at the target fill of the tube's cross-section.
-        let area = std::f64::consts::PI * self.params.tube_radius.powi(2);
-        let per_pellet = 4.0 / 3.0 * std::f64::consts::PI * rb.powi(3) / (area * BATCH_FILL);
+        let per_pellet = batch_height_per_pellet(rb, self.params.tube_radius);
         let cell = min_dist;
         let mut grid: std::collections::HashMap<(i64, i64, i64), Vec<usize>> = std::collections::HashMap::new();
         let key =

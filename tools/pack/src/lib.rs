@@ -299,8 +299,7 @@ fn viewer_tube_height(config: &PackConfig, pellet: &pellet_geom::Pellet) -> f64 
     let rb = pellet.bounding_radius;
     match (config.scheme, config.amount) {
         (LoadingScheme::Batch, Amount::Count(n)) => {
-            let sphere = 4.0 / 3.0 * std::f64::consts::PI * rb.powi(3);
-            f64::from(n) * sphere / (area * pellet_pack::BATCH_FILL) + 3.0 * rb
+            f64::from(n) * pellet_pack::batch_height_per_pellet(rb, 0.5 * config.tube_diameter_m) + 3.0 * rb
         }
         _ => bed + config.drop_height_m + rb,
     }
