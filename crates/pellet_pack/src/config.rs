@@ -64,6 +64,10 @@ pub struct PackOptions {
     pub record_velocities: Option<bool>,
     /// Contact model.
     pub contact_model: Option<ContactModel>,
+    /// εp, the resting band of relative normal speed (m/s).
+    pub resting_band: Option<f64>,
+    /// The friction clamp rule (overrides the contact model's).
+    pub friction_clamp: Option<ClampRule>,
     /// Also write the Foxglove viewer channels.
     pub foxglove: Option<bool>,
 }
@@ -78,6 +82,24 @@ pub enum ContactModel {
     /// physics.md's recommendation: static friction at resting contacts, the
     /// stick clamp, and the velocity bias that removes drift at resting contacts.
     Recommended,
+}
+
+/// What friction does where it would reverse a contact's slip within a substep (physics.md
+/// §3.4, the "friction rule" of the T14 sensitivity).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ClampRule {
+    /// Clamp it to the force or impulse that stops the slip (the recommended model's rule).
+    Stick,
+    /// Drop it (the literal reading of the paper; the paper model's rule).
+    Zero,
+}
+
+/// εp of both contact models (m/s): physics.md §8.1's value for mm pellets.
+pub const DEFAULT_RESTING_BAND: f64 = 5e-3;
+
+fn default_resting_band() -> f64 {
+    DEFAULT_RESTING_BAND
 }
 
 macro_rules! overlay_fields {
@@ -126,6 +148,8 @@ impl PackOptions {
             max_speed,
             record_velocities,
             contact_model,
+            resting_band,
+            friction_clamp,
             foxglove
         )
     }
@@ -187,6 +211,13 @@ pub struct PackConfig {
     pub record_velocities: bool,
     /// The contact model.
     pub contact_model: ContactModel,
+    /// εp (m/s); also εf, and the substep cap is εp / (2 g). Archives written before it
+    /// existed read as the default.
+    #[serde(default = "default_resting_band")]
+    pub resting_band_m_s: f64,
+    /// The friction clamp rule, if it overrides the contact model's.
+    #[serde(default)]
+    pub friction_clamp: Option<ClampRule>,
     /// Whether the trajectory carries the Foxglove viewer channels.
     pub foxglove: bool,
 }
@@ -252,6 +283,17 @@ impl PackConfig {
             // keeps turning about the axis and rattling in the resting band);
             // see the README's known limits.
             contact_model: o.contact_model.unwrap_or(ContactModel::Recommended),
+            // Below ~1e-4 m/s the substep cap εp / 2g would be a few µs; above 0.1 m/s a
+            // pellet bouncing at a walking pace would count as resting.
+            resting_band_m_s: check(
+                "resting-band",
+                o.resting_band.unwrap_or(DEFAULT_RESTING_BAND),
+                1e-4,
+                0.1,
+                false,
+                " m/s",
+            )?,
+            friction_clamp: o.friction_clamp,
         })
     }
 }
@@ -296,6 +338,26 @@ mod tests {
     }
 
     #[test]
+    fn resting_band_and_clamp_rule_reach_the_engine() {
+        use pellet_sim::FrictionClamp;
+        let engine = |o: PackOptions| crate::driver::engine_params(&PackConfig::resolve(&o).unwrap());
+        // Defaults: εp = εf = 5e-3 m/s, the engine's substep cap, each model's own rule.
+        let rec = engine(base());
+        assert_eq!((rec.eps_p, rec.eps_f, rec.dt_cap), (5e-3, 5e-3, 2.5e-4));
+        assert_eq!(rec.friction_clamp, FrictionClamp::Stick);
+        let paper = engine(PackOptions { contact_model: Some(ContactModel::Paper), ..base() });
+        assert_eq!(paper.friction_clamp, FrictionClamp::Zero);
+        // A narrower band lowers the cap to εp / 2g; a wider one keeps the engine's.
+        let narrow = engine(PackOptions { resting_band: Some(2.5e-3), ..base() });
+        assert_eq!((narrow.eps_p, narrow.eps_f), (2.5e-3, 2.5e-3));
+        assert!((narrow.dt_cap - 2.5e-3 / (2.0 * 9.81)).abs() < 1e-15, "{}", narrow.dt_cap);
+        assert_eq!(engine(PackOptions { resting_band: Some(1e-2), ..base() }).dt_cap, 2.5e-4);
+        let zero = engine(PackOptions { friction_clamp: Some(ClampRule::Zero), ..base() });
+        assert_eq!(zero.friction_clamp, FrictionClamp::Zero);
+        assert!(zero.static_friction && zero.velocity_bias, "the rest of the recommended model stays");
+    }
+
+    #[test]
     fn out_of_range_values_name_the_flag_and_range() {
         for (o, needle) in [
             (PackOptions { cor: Some(1.5), ..base() }, "--cor must be in [0, 1]"),
@@ -305,6 +367,7 @@ mod tests {
             (PackOptions { fill_height: Some(100.0), ..base() }, "either --count or --fill-height"),
             (PackOptions { count: None, ..base() }, "give --count N or --fill-height MM"),
             (PackOptions { pellet: None, ..base() }, "--pellet is required"),
+            (PackOptions { resting_band: Some(0.0), ..base() }, "--resting-band must be in [0.0001, 0.1] m/s"),
         ] {
             let err = PackConfig::resolve(&o).unwrap_err().to_string();
             assert!(err.contains(needle), "{err}");

@@ -7,9 +7,11 @@
 use pellet_geom::{ClosedForm, Pellet};
 use pellet_io::{EnergyRecord, Frame};
 use pellet_settle::{check_settled, EnergySample, SettleCriteria, SettleReport};
-use pellet_sim::{BodyType, Container, EngineParams, Material, Pipeline, ShapeDesc, Vec3, WallMaterial, World};
+use pellet_sim::{
+    BodyType, Container, EngineParams, FrictionClamp, Material, Pipeline, ShapeDesc, Vec3, WallMaterial, World,
+};
 
-use crate::config::{Amount, ContactModel, PackConfig};
+use crate::config::{Amount, ClampRule, ContactModel, PackConfig};
 use crate::loading::{FeedParams, Feeder, LoadingScheme};
 
 /// Length of one engine step (s): the energy channel gets a record per
@@ -199,13 +201,9 @@ fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_sim:
     let setup = |e: pellet_sim::SimError| PackError::Setup(e.to_string());
     let material = Material { density: config.density_kg_m3, cor: config.cor, friction: config.friction };
     let wall = WallMaterial { cor: config.wall_cor, friction: config.wall_friction };
-    let mut world = World::new(
-        Container::tube(config.tube_diameter_m).map_err(setup)?,
-        material,
-        wall,
-        engine_params(config.contact_model),
-    )
-    .map_err(setup)?;
+    let mut world =
+        World::new(Container::tube(config.tube_diameter_m).map_err(setup)?, material, wall, engine_params(config))
+            .map_err(setup)?;
     let type_id = world.register_type(body_type(pellet)?).map_err(setup)?;
     Ok((world, type_id))
 }
@@ -397,14 +395,32 @@ fn frame(world: &World, velocities: bool) -> Frame {
     }
 }
 
-/// The engine parameters of a pack run: the chosen contact model, with
-/// islands above [`EXACT_SOLVER_MAX_ROWS`] rows left to the iterative solver.
-fn engine_params(mode: ContactModel) -> EngineParams {
-    let base = match mode {
+/// The engine parameters of a pack run: the chosen contact model, its εp and
+/// clamp rule, with islands above [`EXACT_SOLVER_MAX_ROWS`] rows left to the
+/// iterative solver. εp sets εf too (physics.md §8.1: εf = εp), and the
+/// substep cap is lowered to εp/(2g) where that is below the engine's 2.5e-4 s
+/// (physics.md §5.5: with g·δt_cap > εp/2 a body whose contact has just formed
+/// re-collides every substep); at the default εp of 5e-3 m/s it stays 2.5e-4 s.
+pub fn engine_params(config: &PackConfig) -> EngineParams {
+    let base = match config.contact_model {
         ContactModel::Paper => EngineParams::default(),
         ContactModel::Recommended => EngineParams::recommended(),
     };
-    EngineParams { exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS, ..base }
+    let eps = config.resting_band_m_s;
+    let g = base.gravity.norm();
+    let friction_clamp = match config.friction_clamp {
+        Some(ClampRule::Stick) => FrictionClamp::Stick,
+        Some(ClampRule::Zero) => FrictionClamp::Zero,
+        None => base.friction_clamp,
+    };
+    EngineParams {
+        exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS,
+        eps_p: eps,
+        eps_f: eps,
+        dt_cap: base.dt_cap.min(0.5 * eps / g),
+        friction_clamp,
+        ..base
+    }
 }
 
 /// Largest island solved by Baraff's dense pivoting method in a pack run.

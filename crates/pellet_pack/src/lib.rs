@@ -13,8 +13,8 @@ pub mod config;
 pub mod driver;
 pub mod loading;
 
-pub use config::{Amount, ContactModel, PackConfig, PackOptions};
-pub use driver::{check_setup, run_pack, Ending, PackError, Progress, RunSink, RunSummary};
+pub use config::{Amount, ClampRule, ContactModel, PackConfig, PackOptions};
+pub use driver::{check_setup, engine_params, run_pack, Ending, PackError, Progress, RunSink, RunSummary};
 pub use loading::{batch_height_per_pellet, Feeder, LoadingScheme, Spawn};
 
 /// A configuration value out of range; the message names the flag and the range.

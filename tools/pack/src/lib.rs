@@ -14,7 +14,8 @@ use pellet_cli::Outcome;
 use pellet_io::foxglove::ViewerShape;
 use pellet_io::{EnergyRecord, Frame, Provenance, TrajectoryHeader, TrajectoryWriter};
 use pellet_pack::{
-    check_setup, run_pack, Amount, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions, Progress, RunSink,
+    check_setup, run_pack, Amount, ClampRule, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions, Progress,
+    RunSink,
 };
 
 const EXAMPLES: &str = "\
@@ -104,6 +105,16 @@ pub struct Args {
     /// clamp, velocity bias; settles beds) or `paper` (dynamic friction only) [default: recommended].
     #[arg(long, value_enum)]
     contact_model: Option<ModelArg>,
+    /// εp, the resting band: a contact whose relative normal speed is at most this rests
+    /// (normal forces), faster approaches collide (impulses) (m/s) [default: 0.005]. Also sets εf,
+    /// the slip speed below which friction is static, and caps the substep at εp / (2 g).
+    #[arg(long, value_name = "M/S")]
+    resting_band: Option<f64>,
+    /// Friction rule where friction would reverse a contact's slip within a substep: `stick`
+    /// stops the slip, `zero` drops the friction [default: the contact model's, stick for
+    /// recommended, zero for paper].
+    #[arg(long, value_enum)]
+    friction_clamp: Option<ClampArg>,
     /// Simulated time limit (s) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
@@ -128,6 +139,15 @@ enum ModelArg {
     Paper,
     /// Static friction at resting contacts, stick clamp, velocity bias (physics.md).
     Recommended,
+}
+
+/// Friction clamp rules, as spelled on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum ClampArg {
+    /// Friction stops the slip (the recommended model's rule).
+    Stick,
+    /// Friction is dropped (the paper's rule).
+    Zero,
 }
 
 /// Loading schemes, as spelled on the command line.
@@ -187,6 +207,11 @@ impl Args {
             max_speed: self.max_speed,
             record_velocities: self.record_velocities.then_some(true),
             foxglove: self.foxglove.then_some(true),
+            resting_band: self.resting_band,
+            friction_clamp: self.friction_clamp.map(|c| match c {
+                ClampArg::Stick => ClampRule::Stick,
+                ClampArg::Zero => ClampRule::Zero,
+            }),
             contact_model: self.contact_model.map(|m| match m {
                 ModelArg::Paper => ContactModel::Paper,
                 ModelArg::Recommended => ContactModel::Recommended,
