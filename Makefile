@@ -4,7 +4,7 @@ CARGO ?= cargo
 OUT ?= out
 BIN := target/release
 
-.PHONY: all build pipeline test lint doc bench t14 test-long clean paper paper-validation paper-loading paper-cor paper-friction paper-report
+.PHONY: all build pipeline test lint doc bench t14 t14-sensitivity test-long clean paper paper-validation paper-loading paper-cor paper-friction paper-report
 
 all: pipeline
 
@@ -44,6 +44,11 @@ test-long:
 # tube, batch loading, scored against the correlations (pipelines/t14.mk).
 t14: build
 	$(MAKE) --no-print-directory -f pipelines/t14.mk BIN=$(BIN) OUT=$(OUT)/t14
+
+# T14's sensitivity of porosity to εp, μ and the friction rule
+# (pipelines/t14-sensitivity.mk): ten 1000-sphere beds, about 5 min each.
+t14-sensitivity: build
+	$(MAKE) --no-print-directory -f pipelines/t14-sensitivity.mk BIN=$(BIN) OUT=$(OUT)/t14-sensitivity
 
 # The paper's study (pipelines/paper.mk, README "The paper's study"):
 # beds under $(PAPER_OUT), the report in $(PAPER_DOCS). REPEATS=k runs seeds
