@@ -4,7 +4,7 @@ CARGO ?= cargo
 OUT ?= out
 BIN := target/release
 
-.PHONY: all build pipeline test lint doc bench t14 t14-sensitivity test-long clean paper paper-validation paper-loading paper-cor paper-friction paper-report
+.PHONY: all build pipeline test lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report
 
 all: pipeline
 
@@ -34,11 +34,6 @@ bench:
 	  $(CARGO) bench -p pellet_sim --bench pack_beds
 	$(CARGO) run --release -p pellet_analysis --example bench_voidprof
 	$(CARGO) run --release -p pellet_export --example bench_export
-
-# The validation run too long for `make test` (#[ignore]d there): the
-# 40-pellet cylinder and ring pour (about 7 min).
-test-long:
-	$(CARGO) test --release -p pellet_sim --test t23_pour_shapes -- --ignored --nocapture
 
 # physics.md T14 (not a test: minutes of one core): 1000 spheres in a 100 mm
 # tube, batch loading, scored against the correlations (pipelines/t14.mk).
