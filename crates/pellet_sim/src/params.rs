@@ -54,6 +54,10 @@ pub struct EngineParams {
     pub collision_pass_cap: u32,
     /// Largest island solved by Baraff's exact method.
     pub exact_solver_max_rows: usize,
+    /// Largest island that Baraff solves again when the iterative solver ends unconverged
+    /// (0: never). Serialised parameters from before it existed read as 0.
+    #[serde(default)]
+    pub exact_fallback_max_rows: usize,
     /// Solver for larger islands.
     pub iterative_solver: IterativeSolver,
     /// Residual tolerance of the iterative solvers as a factor of |g| (or of 9.81 if g = 0).
@@ -84,6 +88,7 @@ impl Default for EngineParams {
             velocity_bias: false,
             collision_pass_cap: 50,
             exact_solver_max_rows: 64,
+            exact_fallback_max_rows: 0,
             iterative_solver: IterativeSolver::Apgd,
             solver_tolerance_factor: 1e-4,
             apgd_max_iterations: 200,

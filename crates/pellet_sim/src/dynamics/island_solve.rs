@@ -4,7 +4,7 @@
 
 use super::friction_guard::{drop_energy_gaining, FrictionRow};
 use super::friction_update::{update_dynamic, update_static, Friction, FrictionEntry};
-use super::lcp::{solve_auto, DenseLcp, LcpMatrix, LcpReport};
+use super::lcp::{solve_auto, DenseLcp, LcpMatrix, LcpReport, LcpStatus};
 use super::rows::RowSystem;
 use crate::math::Real;
 use crate::params::{EngineParams, IterativeSolver};
@@ -90,11 +90,28 @@ impl IslandProblem<'_> {
     }
 
     /// Solves the island from warm normal forces `f0`: friction through b, iterated to a fixed
-    /// point with the normal LCP, then the energy guard.
+    /// point with the normal LCP, then the energy guard. Islands up to
+    /// `exact_solver_max_rows` go to Baraff; larger ones to the iterative solver, and those up to
+    /// `exact_fallback_max_rows` whose iterative solve ends unconverged are solved again by
+    /// Baraff.
     pub fn solve(&self, f0: Vec<Real>) -> IslandSolution {
+        let (p, dim) = (self.params, self.sys.dim());
+        let exact = dim <= p.exact_solver_max_rows;
+        let sol = self.solve_with(&f0, exact);
+        let unconverged = sol.report.is_some_and(|r| r.status != LcpStatus::Converged);
+        if !exact && unconverged && dim <= p.exact_fallback_max_rows {
+            let mut again = self.solve_with(&f0, true);
+            again.iterations += sol.iterations;
+            return again;
+        }
+        sol
+    }
+
+    /// [`Self::solve`] with the exact (Baraff) or the iterative solver.
+    fn solve_with(&self, f0: &[Real], exact: bool) -> IslandSolution {
         let (p, sys, fric, dt) = (self.params, self.sys, self.fric, self.dt);
         let tol = p.solver_tolerance();
-        let exact = sys.dim() <= p.exact_solver_max_rows;
+        let max_exact = if exact { usize::MAX } else { 0 };
         let (rounds, friction_tol) = match (fric.is_empty(), exact) {
             (true, _) => (1, 0.0),
             (false, true) => (FRICTION_ROUNDS, FRICTION_TOL_FACTOR * tol),
@@ -132,7 +149,7 @@ impl IslandProblem<'_> {
                 &mut sol.f,
                 1e-13 * tol / p.solver_tolerance_factor,
                 round_tol,
-                p.exact_solver_max_rows,
+                max_exact,
                 p.iterative_solver == IterativeSolver::Apgd,
                 p.apgd_max_iterations,
                 p.pgs_max_iterations,
@@ -145,7 +162,7 @@ impl IslandProblem<'_> {
         // round's change of b (0 when the island has no friction).
         let fixed_point = |warm_friction: bool| -> (IslandSolution, Real) {
             let mut sol = IslandSolution {
-                f: f0.clone(),
+                f: f0.to_vec(),
                 gt: vec![(0.0, 0.0); fric.len()],
                 report: None,
                 iterations: 0,
@@ -153,7 +170,7 @@ impl IslandProblem<'_> {
             };
             let mut clamped: Vec<Option<bool>> = vec![None; fric.len()];
             if warm_friction && !fric.is_empty() {
-                update(&f0, &mut sol.gt, &mut clamped);
+                update(f0, &mut sol.gt, &mut clamped);
                 clamped.iter_mut().for_each(|c| *c = None);
             }
             let mut b = if fric.is_empty() { self.b0.to_vec() } else { coupled_rhs(&sol.gt) };
