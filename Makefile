@@ -31,6 +31,7 @@ test: lint doc
 # bedexport's stages on a 600-sphere bed.
 bench:
 	PELLET_BENCH_MODE=$${PELLET_BENCH_MODE:-recommended} PELLET_BENCH_EXACT_ROWS=$${PELLET_BENCH_EXACT_ROWS:-16} \
+	  PELLET_BENCH_EXACT_FALLBACK=$${PELLET_BENCH_EXACT_FALLBACK:-64} \
 	  $(CARGO) bench -p pellet_sim --bench pack_beds
 	$(CARGO) run --release -p pellet_analysis --example bench_voidprof
 	$(CARGO) run --release -p pellet_export --example bench_export

@@ -10,7 +10,8 @@
 //! each case; the table says how far a case got. Engine: density 2000 kg/m³, e = 0.5, μ = 0.3;
 //! paper mode, or `pack`'s default contact model with `PELLET_BENCH_MODE=recommended`;
 //! `PELLET_BENCH_EXACT_ROWS` (default 64) the largest island solved by Baraff's method
-//! (`pack` uses 16); `PELLET_BENCH_SOLVER=pgs` plain PGS instead of APGD for larger islands;
+//! (`pack` uses 16); `PELLET_BENCH_EXACT_FALLBACK` (default 0) the largest unconverged
+//! iterative island solved again by Baraff (`pack` uses 64); `PELLET_BENCH_SOLVER=pgs` plain PGS instead of APGD for larger islands;
 //! `PELLET_BENCH_TOL` the solver tolerance as a factor of g (default 1e-4).
 //!
 //! Printed per case: tube, wall and simulated time, substeps, contacts per substep (all /
@@ -50,6 +51,7 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
         WallMaterial { cor: 0.5, friction: 0.3 },
         EngineParams {
             exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", 64.0) as usize,
+            exact_fallback_max_rows: env("PELLET_BENCH_EXACT_FALLBACK", 0.0) as usize,
             solver_tolerance_factor: env("PELLET_BENCH_TOL", 1e-4),
             iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
                 Ok("pgs") => IterativeSolver::Pgs,
