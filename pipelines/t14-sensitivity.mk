@@ -91,16 +91,10 @@ json = $$(sed -n 's/^  "$(2)": \([^,]*\),*$$/\1/p' $(1) | head -1)
 table:
 	@{ echo '| variant | changed | settled | time (s) | ε, z = $(subst $(comma),–,$(WINDOW)) mm | ε, z = $(subst $(comma),–,$(INNER)) mm | pack wall time |'; \
 	  echo '|---|---|---|---|---|---|---|'; \
-	  for v in $(VARIANTS); do \
-	    d=$(OUT)/$$v; test -f $$d/summary.json || continue; \
-	    case $$v in \
-	      base-s1) w="$(what_base-s1)";; base-s2) w="$(what_base-s2)";; base-s3) w="$(what_base-s3)";; \
-	      eps-0.0025) w="$(what_eps-0.0025)";; eps-0.01) w="$(what_eps-0.01)";; \
-	      mu-0.05) w="$(what_mu-0.05)";; mu-0.3) w="$(what_mu-0.3)";; mu-0.6) w="$(what_mu-0.6)";; \
-	      clamp-zero) w="$(what_clamp-zero)";; paper) w="$(what_paper)";; esac; \
-	    printf '| %s | %s | %s | %.3f | %.4f | %.4f | %s |\n' $$v "$$w" \
+	  row() { d=$(OUT)/$$1; test -f $$d/summary.json || return 0; \
+	    printf '| %s | %s | %s | %.3f | %.4f | %.4f | %s |\n' $$1 "$$2" \
 	      $(call json,$$d/settle.json,settled) $(call json,$$d/settle.json,final_time_s) \
 	      $(call json,$$d/summary.json,bulk_porosity) $(call json,$$d/summary-inner.json,bulk_porosity) \
-	      "$$(awk '{ printf "%.0f s", $$1 }' $$d/pack.time)"; \
-	  done; } > $(OUT)/sensitivity.md
+	      "$$(awk '{ printf "%.0f s", $$1 }' $$d/pack.time)"; }; \
+	  $(foreach v,$(VARIANTS),row $(v) "$(what_$(v))";) } > $(OUT)/sensitivity.md
 	@cat $(OUT)/sensitivity.md

@@ -23,20 +23,27 @@ impl RunSink for Frames {
     }
 }
 
-#[test]
-fn packs_a_few_cylinders_end_to_end() {
+/// `count` equilateral 10 mm cylinders packed by pack's defaults in a tube of `tube_mm`, run
+/// for at most `max_time_s`.
+fn pack_cylinders(tube_mm: f64, count: u32, max_time_s: f64) -> (pellet_pack::RunSummary, Frames) {
     let pellet =
         Pellet::build(ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 }, Resolution::default()).unwrap();
     let options = PackOptions {
         pellet: Some("c.pellet".into()),
-        tube_diameter: Some(30.0),
-        count: Some(3),
-        max_time: Some(1.5),
+        tube_diameter: Some(tube_mm),
+        count: Some(count),
+        max_time: Some(max_time_s),
         ..Default::default()
     };
     let config = PackConfig::resolve(&options).unwrap();
     let mut sink = Frames::default();
     let summary = run_pack(&config, &pellet, &mut sink).unwrap();
+    (summary, sink)
+}
+
+#[test]
+fn packs_a_few_cylinders_end_to_end() {
+    let (summary, sink) = pack_cylinders(30.0, 3, 1.5);
     println!("{summary:?}");
     assert_eq!(summary.pellets, 3);
     assert!(summary.max_penetration_m < 1e-2 * 0.01, "penetration {}", summary.max_penetration_m);
@@ -126,18 +133,7 @@ fn closed_form_and_mesh_paths_agree() {
 /// this bed was still moving after 8 s (max speed 1.9e-3 m/s); with it, it settles at 2.19 s.
 #[test]
 fn a_cylinder_bed_settles() {
-    let pellet =
-        Pellet::build(ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 }, Resolution::default()).unwrap();
-    let options = PackOptions {
-        pellet: Some("c.pellet".into()),
-        tube_diameter: Some(40.0),
-        count: Some(20),
-        max_time: Some(4.0),
-        ..Default::default()
-    };
-    let config = PackConfig::resolve(&options).unwrap();
-    let mut sink = Frames::default();
-    let summary = run_pack(&config, &pellet, &mut sink).unwrap();
+    let (summary, _) = pack_cylinders(40.0, 20, 4.0);
     println!("{summary:?}");
     assert_eq!(summary.pellets, 20);
     assert_eq!(summary.ending, Ending::Settled, "not settled: {:?}", summary.settle);

@@ -6,32 +6,13 @@
 //! `DT=2.5e-4 STEPS=100 cargo test -p pellet_sim --release --test diag_stack -- --ignored --nocapture`
 mod common;
 use common::*;
-use pellet_sim::{BodyType, Container, EngineParams, Quat, Vec3};
+use pellet_sim::EngineParams;
 
 #[test]
 #[ignore]
 fn diag_stack() {
     let n: usize = std::env::var("NS").map(|s| s.parse().unwrap()).unwrap_or(5);
-    let ty = BodyType::solid_cylinder(0.005, 0.005).unwrap();
-    let (mut w, t) = shape_world(
-        Container::tube(0.012).unwrap(),
-        ty,
-        material(0.5, 0.3),
-        wall(0.5, 0.3),
-        EngineParams::recommended(),
-    );
-    let ids: Vec<_> = (0..n)
-        .map(|k| {
-            add_q(
-                &mut w,
-                t,
-                Vec3::new(0.0, 0.0, 0.005 + 0.01 * k as f64),
-                Quat::identity(),
-                Vec3::zeros(),
-                Vec3::zeros(),
-            )
-        })
-        .collect();
+    let (mut w, ids) = cylinder_stack(n, EngineParams::recommended());
     let mut p = pellet_sim::Pipeline::new();
     let steps: usize = std::env::var("STEPS").map(|s| s.parse().unwrap()).unwrap_or(80);
     let dt: f64 = std::env::var("DT").map(|s| s.parse().unwrap()).unwrap_or(1.0 / 40.0);

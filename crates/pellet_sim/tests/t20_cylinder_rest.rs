@@ -114,20 +114,7 @@ fn stack_of_two_cylinders_does_not_tilt() {
 /// Stacks `n` cylinders for 2 s; asserts interface forces (N − k + 1) m g to 1e-6, |Δz| ≤
 /// s_lop and |v| ≤ `vlim`; returns the largest |ω| seen.
 fn stack(n: usize, params: EngineParams, vlim: f64) -> f64 {
-    let ty = BodyType::solid_cylinder(0.005, 0.005).unwrap();
-    let (mut w, t) = shape_world(Container::tube(0.012).unwrap(), ty, material(0.5, 0.3), wall(0.5, 0.3), params);
-    let ids: Vec<_> = (0..n)
-        .map(|k| {
-            add_q(
-                &mut w,
-                t,
-                Vec3::new(0.0, 0.0, 0.005 + 0.01 * k as f64),
-                Quat::identity(),
-                Vec3::zeros(),
-                Vec3::zeros(),
-            )
-        })
-        .collect();
+    let (mut w, ids) = cylinder_stack(n, params);
     let m = w.body(ids[0]).unwrap().mass;
     let slop = w.params().slop_factor * w.reference_size();
     let mut p = pellet_sim::Pipeline::new();

@@ -85,6 +85,20 @@ pub fn force_sum(p: &Pipeline, pick: impl Fn(&pellet_sim::Contact) -> bool) -> R
     p.last_contacts().iter().filter(|r| pick(&r.contact)).map(|r| r.normal_force).sum()
 }
 
+/// `n` equilateral 10 mm cylinders stacked on the floor of a 12 mm tube, caps touching, at rest
+/// (the stack proof and its diagnostic).
+pub fn cylinder_stack(n: usize, params: EngineParams) -> (World, Vec<BodyId>) {
+    let ty = BodyType::solid_cylinder(0.005, 0.005).unwrap();
+    let (mut w, t) = shape_world(Container::tube(0.012).unwrap(), ty, material(0.5, 0.3), wall(0.5, 0.3), params);
+    let ids = (0..n)
+        .map(|k| {
+            let x = Vec3::new(0.0, 0.0, 0.005 + 0.01 * k as f64);
+            add_q(&mut w, t, x, Quat::identity(), Vec3::zeros(), Vec3::zeros())
+        })
+        .collect();
+    (w, ids)
+}
+
 /// Recommended-mode switch used by "bias on" variants.
 pub fn with_bias(params: EngineParams) -> EngineParams {
     EngineParams { velocity_bias: true, ..params }
