@@ -36,6 +36,8 @@ pub struct IslandProblem<'a> {
     pub fric: &'a [FrictionEntry],
     /// Free tangential accelerations of `fric` along t1, t2, m/s².
     pub free_t: &'a [(Real, Real)],
+    /// Warm static friction multipliers of `fric` (zero for dynamic entries), N.
+    pub g0: &'a [(Real, Real)],
     /// Engine parameters.
     pub params: &'a EngineParams,
     /// Substep, s.
@@ -163,7 +165,7 @@ impl IslandProblem<'_> {
         let fixed_point = |warm_friction: bool| -> (IslandSolution, Real) {
             let mut sol = IslandSolution {
                 f: f0.to_vec(),
-                gt: vec![(0.0, 0.0); fric.len()],
+                gt: if warm_friction { self.g0.to_vec() } else { vec![(0.0, 0.0); fric.len()] },
                 report: None,
                 iterations: 0,
                 dropped: 0,

@@ -35,7 +35,9 @@ pub struct ContactRecord {
 #[derive(Debug, Default, Clone)]
 pub struct Pipeline {
     broad: BroadPhase,
-    warm: Vec<(ContactKey, Real)>,
+    /// Last substep's resting forces by contact key: normal force (N) and friction force on
+    /// body A (world, N), the warm start of the next resting phase.
+    warm: Vec<(ContactKey, Real, Vec3)>,
     saved: Vec<Body>,
     last_contacts: Vec<ContactRecord>,
 }
@@ -264,7 +266,9 @@ impl World {
             report.wall_seconds[1] += clock.elapsed().as_secs_f64();
             let clock = std::time::Instant::now();
             let warm = &pipeline.warm;
-            let warm_fn = |k: &ContactKey| warm.binary_search_by(|e| e.0.cmp(k)).map_or(0.0, |i| warm[i].1);
+            let warm_fn = |k: &ContactKey| {
+                warm.binary_search_by(|e| e.0.cmp(k)).map_or((0.0, Vec3::zeros()), |i| (warm[i].1, warm[i].2))
+            };
             let (forces, rest) = resting_phase(&self.bodies, &contacts, &mu, &self.params, dt, delta_c, &warm_fn);
             report.wall_seconds[2] += clock.elapsed().as_secs_f64();
             let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity(c, &self.bodies)).collect();
@@ -331,7 +335,7 @@ impl World {
                 .iter()
                 .enumerate()
                 .filter(|&(i, _)| forces.normal[i] > 0.0)
-                .map(|(i, c)| (c.key, forces.normal[i]))
+                .map(|(i, c)| (c.key, forces.normal[i], forces.friction[i]))
                 .collect();
             pipeline.warm.sort_by_key(|e| e.0);
             pipeline.last_contacts = contacts
