@@ -16,7 +16,7 @@ const SIDE_B: u32 = 1 << 31;
 /// Feature bit: a rim sample refined to the local minimum along its rim.
 const REFINED: u32 = 1 << 30;
 /// Normals closer than this (cosine) share a patch (physics.md §6.4).
-const PATCH_COS: Real = 0.98;
+const PATCH_COS: Real = 0.9998;
 /// How much deeper (× the other body's bounding radius) the alternative face of an edge may be
 /// when the SDF's own face is one that the sample's surface does not allow (`MIN_ALIGN`).
 const FACE_SWITCH: Real = 0.02;

@@ -1,0 +1,162 @@
+//! Diagnostic, not a check: restarts the engine from one frame of a `pack` trajectory, every
+//! pellet at rest, and prints per step what the resting phase did and how far the bed moves.
+//! A bed that a perfect solver would hold still (it was nearly at rest in the trajectory) shows
+//! whether the solver's answers make it creep. Run:
+//!
+//! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo test --release -p pellet_pack --test diag_restart -- --ignored --nocapture`
+//!
+//! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
+//! run. The tube, pellet and materials are the trajectory's; the engine parameters are pack's
+//! defaults (recommended model).
+
+use pellet_io::read_trajectory;
+use pellet_pack::driver::body_type;
+use pellet_pack::{engine_params, PackConfig, PackOptions};
+use pellet_sim::{Container, Material, Pipeline, Quat, Vec3, WallMaterial, World};
+
+fn env_f64(name: &str, default: f64) -> f64 {
+    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
+}
+
+#[test]
+#[ignore = "diagnostic: needs TRAJ=<pack trajectory>"]
+fn restart_from_a_frame() {
+    let Ok(path) = std::env::var("TRAJ") else {
+        println!("set TRAJ to a pack trajectory");
+        return;
+    };
+    let bytes = std::fs::read(&path).expect("trajectory readable");
+    let traj = read_trajectory(&bytes, &path).expect("a pack trajectory");
+    let at = env_f64("AT", traj.frames.last().map_or(0.0, |f| f.time_s));
+    let secs = env_f64("SECS", 0.5);
+    let frame = traj
+        .frames
+        .iter()
+        .min_by(|a, b| (a.time_s - at).abs().total_cmp(&(b.time_s - at).abs()))
+        .expect("frames recorded");
+    let pellet = pellet_io::decode_pellet(&traj.pellet_files[0], "attached pellet").expect("pellet attached").pellet;
+    let tube = traj.tube.expect("tube attached");
+    let options = PackOptions {
+        pellet: Some("attached".into()),
+        tube_diameter: Some(tube.diameter * 1e3),
+        count: Some(frame.positions.len() as u32),
+        resting_band: std::env::var("EPS_P").ok().map(|v| v.parse().unwrap()),
+        ..Default::default()
+    };
+    let config = PackConfig::resolve(&options).unwrap();
+    let material = Material {
+        density: config.density_kg_m3,
+        cor: env_f64("COR", config.cor),
+        friction: env_f64("FRICTION", config.friction),
+    };
+    let wall = WallMaterial { cor: config.wall_cor, friction: config.wall_friction };
+    let mut params = engine_params(&config);
+    if let Ok(v) = std::env::var("EXACT_FALLBACK") {
+        params.exact_fallback_max_rows = v.parse().unwrap();
+    }
+    if let Ok(v) = std::env::var("APGD_IT") {
+        params.apgd_max_iterations = v.parse().unwrap();
+    }
+    if let Ok(v) = std::env::var("PGS_IT") {
+        params.pgs_max_iterations = v.parse().unwrap();
+    }
+    if std::env::var("PGS_ONLY").is_ok() {
+        params.iterative_solver = pellet_sim::IterativeSolver::Pgs;
+    }
+    let mut world = World::new(Container::tube(tube.diameter).unwrap(), material, wall, params).unwrap();
+    let ty = world.register_type(body_type(&pellet).unwrap()).unwrap();
+    for (p, q) in frame.positions.iter().zip(&frame.orientations) {
+        let q = Quat::new_normalize(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]));
+        // A resting pellet may sit a few µm into the floor or the wall, which add_body refuses:
+        // such a pellet is moved 10 µm up and 10 µm towards the axis.
+        let p = Vec3::from(*p);
+        if world.add_body(ty, p, q, Vec3::zeros(), Vec3::zeros()).is_err() {
+            let r = p.x.hypot(p.y).max(1e-9);
+            let nudged = Vec3::new(p.x * (1.0 - 1e-5 / r), p.y * (1.0 - 1e-5 / r), p.z + 1e-5);
+            world.add_body(ty, nudged, q, Vec3::zeros(), Vec3::zeros()).unwrap();
+        }
+    }
+    println!(
+        "restart of {path} at t = {:.3} s: {} pellets, D = {:.2} mm",
+        frame.time_s,
+        frame.positions.len(),
+        tube.diameter * 1e3
+    );
+    let start: Vec<Vec3> = world.bodies().iter().map(|b| b.position).collect();
+    let mut pipeline = Pipeline::new();
+    let step = 1.0 / 40.0;
+    let clock = std::time::Instant::now();
+    while world.time() < secs - 1e-9 {
+        let e0 = world.energy().total();
+        let r = world.step(step, &mut pipeline).unwrap();
+        let (de, l) = (world.energy().total() - e0, r.energy);
+        println!(
+            "  energy: ΔE {:+.2e} J, removed by collisions {:.2e}, friction {:.2e}, projection {:.2e}; unlogged {:+.2e} J",
+            de,
+            l.removed_by_collisions,
+            l.removed_by_friction,
+            l.removed_by_projection,
+            de + l.removed_by_collisions + l.removed_by_friction + l.removed_by_projection
+        );
+        let moved = world.bodies().iter().zip(&start).map(|(b, p0)| (b.position - p0).norm()).fold(0.0, f64::max);
+        let vmax = world.bodies().iter().map(|b| b.velocity().norm()).fold(0.0, f64::max);
+        let (fast, body) = world
+            .bodies()
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.velocity().norm().total_cmp(&b.1.velocity().norm()))
+            .unwrap();
+        println!(
+            "  fastest: #{fast} at z {:.1} mm, v {:?} mm/s, ω {:?} rad/s; colliding {} impulses {} friction drops {} dt {:.1e}..{:.1e}",
+            body.position.z * 1e3,
+            (body.velocity() * 1e3).as_slice().iter().map(|v| format!("{v:.2}")).collect::<Vec<_>>(),
+            body.angular_velocity().as_slice().iter().map(|v| format!("{v:.3}")).collect::<Vec<_>>(),
+            r.colliding,
+            r.impulses,
+            r.friction_guard_drops,
+            r.dt_min,
+            r.dt_max
+        );
+        if std::env::var("CONTACTS").is_ok() {
+            let vel = |k: usize, r: &Vec3| {
+                let b = &world.bodies()[k];
+                b.velocity() + b.angular_velocity().cross(r)
+            };
+            for rec in
+                pipeline.last_contacts().iter().filter(|r| r.contact.a == fast || r.contact.b_body() == Some(fast))
+            {
+                let c = &rec.contact;
+                let u = vel(c.a, &c.lever_a) - c.b_body().map_or(Vec3::zeros(), |k| vel(k, &c.lever_b));
+                let vn = c.normal.dot(&u);
+                println!(
+                    "    {}–{:?} key {:x} pt z {:.2} mm n [{:.2} {:.2} {:.2}] gap {:.2e} m vn {:+.2e} slip {:.2e} m/s f {:.2e} N fric {:.2e} N",
+                    c.a,
+                    c.b,
+                    c.key.feature,
+                    c.point.z * 1e3,
+                    c.normal.x,
+                    c.normal.y,
+                    c.normal.z,
+                    c.gap,
+                    vn,
+                    (u - c.normal * vn).norm(),
+                    rec.normal_force,
+                    rec.friction_force.norm()
+                );
+            }
+        }
+        println!(
+            "t {:.3} KE {:.2e} J vmax {:.2e} m/s moved {:.2e} m | substeps {} it/substep {:.0} unconverged {} largest {} residual {:.2e} wall {:.1} s",
+            world.time(),
+            world.kinetic_energy(),
+            vmax,
+            moved,
+            r.substeps,
+            r.solver_iterations as f64 / r.substeps.max(1) as f64,
+            r.unconverged_islands,
+            r.largest_island,
+            r.solver_residual,
+            clock.elapsed().as_secs_f64()
+        );
+    }
+}
