@@ -6,13 +6,14 @@
 //! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo test --release -p pellet_pack --test diag_restart -- --ignored --nocapture`
 //!
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
-//! run. The tube, pellet and materials are the trajectory's; the engine parameters are pack's
-//! defaults (recommended model).
+//! run; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY` change one
+//! setting, and `CONTACTS` lists the fastest pellet's contacts after every step. The tube and
+//! pellet are the trajectory's; materials and engine parameters are pack's defaults.
+
+mod common;
 
 use pellet_io::read_trajectory;
-use pellet_pack::driver::body_type;
-use pellet_pack::{engine_params, PackConfig, PackOptions};
-use pellet_sim::{Container, Material, Pipeline, Quat, Vec3, WallMaterial, World};
+use pellet_sim::{Pipeline, Vec3};
 
 fn env_f64(name: &str, default: f64) -> f64 {
     std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
@@ -36,21 +37,12 @@ fn restart_from_a_frame() {
         .expect("frames recorded");
     let pellet = pellet_io::decode_pellet(&traj.pellet_files[0], "attached pellet").expect("pellet attached").pellet;
     let tube = traj.tube.expect("tube attached");
-    let options = PackOptions {
-        pellet: Some("attached".into()),
-        tube_diameter: Some(tube.diameter * 1e3),
-        count: Some(frame.positions.len() as u32),
-        resting_band: std::env::var("EPS_P").ok().map(|v| v.parse().unwrap()),
-        ..Default::default()
-    };
-    let config = PackConfig::resolve(&options).unwrap();
-    let material = Material {
-        density: config.density_kg_m3,
-        cor: env_f64("COR", config.cor),
-        friction: env_f64("FRICTION", config.friction),
-    };
-    let wall = WallMaterial { cor: config.wall_cor, friction: config.wall_friction };
-    let mut params = engine_params(&config);
+    let config = common::pack_config(tube.diameter * 1e3, frame.positions.len() as u32, |o| {
+        o.resting_band = std::env::var("EPS_P").ok().map(|v| v.parse().unwrap());
+        o.cor = std::env::var("COR").ok().map(|v| v.parse().unwrap());
+        o.friction = std::env::var("FRICTION").ok().map(|v| v.parse().unwrap());
+    });
+    let mut params = common::pack_params(&config);
     if let Ok(v) = std::env::var("EXACT_FALLBACK") {
         params.exact_fallback_max_rows = v.parse().unwrap();
     }
@@ -63,19 +55,9 @@ fn restart_from_a_frame() {
     if std::env::var("PGS_ONLY").is_ok() {
         params.iterative_solver = pellet_sim::IterativeSolver::Pgs;
     }
-    let mut world = World::new(Container::tube(tube.diameter).unwrap(), material, wall, params).unwrap();
-    let ty = world.register_type(body_type(&pellet).unwrap()).unwrap();
-    for (p, q) in frame.positions.iter().zip(&frame.orientations) {
-        let q = Quat::new_normalize(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]));
-        // A resting pellet may sit a few µm into the floor or the wall, which add_body refuses:
-        // such a pellet is moved 10 µm up and 10 µm towards the axis.
-        let p = Vec3::from(*p);
-        if world.add_body(ty, p, q, Vec3::zeros(), Vec3::zeros()).is_err() {
-            let r = p.x.hypot(p.y).max(1e-9);
-            let nudged = Vec3::new(p.x * (1.0 - 1e-5 / r), p.y * (1.0 - 1e-5 / r), p.z + 1e-5);
-            world.add_body(ty, nudged, q, Vec3::zeros(), Vec3::zeros()).unwrap();
-        }
-    }
+    let poses: Vec<([f64; 3], [f64; 4])> =
+        frame.positions.iter().copied().zip(frame.orientations.iter().copied()).collect();
+    let mut world = common::restart_world(&config, params, &pellet, &poses);
     println!(
         "restart of {path} at t = {:.3} s: {} pellets, D = {:.2} mm",
         frame.time_s,
