@@ -6,7 +6,7 @@
 //! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo test --release -p pellet_pack --test diag_restart -- --ignored --nocapture`
 //!
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
-//! run; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY` change one
+//! run; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g) change one
 //! setting, and `CONTACTS` lists the fastest pellet's contacts after every step. The tube and
 //! pellet are the trajectory's; materials and engine parameters are pack's defaults.
 
@@ -51,6 +51,9 @@ fn restart_from_a_frame() {
     }
     if let Ok(v) = std::env::var("PGS_IT") {
         params.pgs_max_iterations = v.parse().unwrap();
+    }
+    if let Ok(v) = std::env::var("TOL") {
+        params.solver_tolerance_factor = v.parse().unwrap();
     }
     if std::env::var("PGS_ONLY").is_ok() {
         params.iterative_solver = pellet_sim::IterativeSolver::Pgs;
