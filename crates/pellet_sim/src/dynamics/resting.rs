@@ -113,7 +113,9 @@ fn tangential_rhs(c: &Contact, bodies: &[Body], dir: &Vec3, g: &Vec3) -> Real {
 
 /// Runs the resting phase over contacts with |v_rel| ≤ εp whose gap is, or would become within
 /// `dt`, at most δ_c (the same look-ahead as the collision phase, so that a body arriving inside
-/// the resting band is not first accelerated out of it by a substep of free fall). `warm(key)` gives the previous substep's normal force and friction force on A of a contact (the solver's warm start).
+/// the resting band is not first accelerated out of it by a substep of free fall). `warm(key)`
+/// gives the previous substep's normal force and friction force on A of a contact (the solver's
+/// warm start).
 pub fn resting_phase(
     bodies: &[Body],
     contacts: &[Contact],
@@ -228,10 +230,11 @@ pub fn resting_phase(
 /// islands get it (`iterative`); the others start from zero.
 ///
 /// Why: the static-friction sweeps of one substep (5 per fixed-point round, ≤ 10 rounds) move
-/// friction one contact per sweep, and a column held up by wall friction is tens of contacts
-/// deep. Started from zero every substep the friction never reaches its answer, and the column
-/// creeps; started from the last answer, the substeps add up. Small islands, solved exactly,
-/// start from zero: with a warm start there, 12 spheres in a 25 mm tube never settled
+/// a correction about one contact per sweep, and a bed held up by wall friction is tens of
+/// contacts deep; from the last answer the substeps add up. Measured before the patch-normal
+/// fix (NOTES, 2026-11-24): 40 cylinders in a 40 mm tube settle at 4.35 s in 188 s of CPU
+/// (8.12 s, 533 s from zero), 20 rings at 1.62 s (not settled in 6 s). Small, exactly solved
+/// islands start from zero: with a warm start there, 12 spheres in a 25 mm tube never settled
 /// (NOTES, 2026-11-23 third session).
 fn warm_static_friction(fric: &[FrictionEntry], warm: &[(Real, Vec3)], iterative: bool) -> Vec<(Real, Real)> {
     fric.iter()
