@@ -1,6 +1,7 @@
 //! A bed the engine once left creeping must now come to rest: the paper's narrowest cylinder
-//! bed (69 cylinders of 10 × 10 mm, D = 33.65 mm) at t = 7.06 s of a run made before patches
-//! were split by normal within ~1.1°, restarted with every pellet at rest.
+//! bed (69 cylinders of 10 × 10 mm, D = 33.65 mm) at t = 7.06 s of a run made while contact
+//! patches still merged normals within 11.5° (and the reduction to 4 points dropped touching
+//! points), restarted with every pellet at rest.
 //!
 //! Measured (0.1 s after the restart): with patches of normals within 11.5° (cos 0.98) the bed
 //! kept creeping — KE 2.9e-7 J, fastest pellet 2.9e-3 m/s, position projection lifting pellets

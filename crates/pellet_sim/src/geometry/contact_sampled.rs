@@ -16,13 +16,15 @@ const SIDE_B: u32 = 1 << 31;
 /// Feature bit: a rim sample refined to the local minimum along its rim.
 const REFINED: u32 = 1 << 30;
 /// Normals closer than this (cosine, ~1.1°) share a patch and its one normal (physics.md §6.4).
-/// physics.md suggests 0.98 (11.5°), grouping by proximity as well; we group by normal only,
-/// and with 0.98 points whose own normal was up to 11.5° off the patch's penetrated at first
-/// order while the pellets slid, so position projection lifted them every substep and the
-/// paper's narrowest cylinder bed (D = 33.65 mm) crept at ~4 mm/s for ever. Measured on that
-/// bed restarted at rest (`tests/bed_rest.rs` in pellet_pack): 0.98 and 0.995 creep, 0.999
-/// rattles (fastest pellet ~2 mm/s), 0.9998 comes to rest within 0.05 s. Flat faces give
-/// normals equal to round-off, so their patches are unchanged.
+/// physics.md suggests 0.98 (11.5°), grouping by proximity as well; we group by normal only.
+/// With 0.98, hits up to 11.5° apart (along a curved surface, or at separate places) made one
+/// patch reduced to ≤ 4 points, and the touching points the reduction dropped sank while the
+/// pellets slid; each was the deepest, so kept, in the next substep, and position projection
+/// lifted it. The paper's narrowest cylinder bed (D = 33.65 mm) crept at ~4 mm/s for ever.
+/// Measured on that bed restarted at rest (`tests/bed_rest.rs` in pellet_pack): 0.98 and 0.995
+/// creep, 0.999 rattles (fastest pellet ~2 mm/s), 0.9998 comes to rest within 0.05 s; 0.98 with
+/// each kept point on its own normal creeps as before (so it is the dropped points, not the
+/// shared normal). Flat faces give normals equal to round-off: their patches are unchanged.
 const PATCH_COS: Real = 0.9998;
 /// How much deeper (× the other body's bounding radius) the alternative face of an edge may be
 /// when the SDF's own face is one that the sample's surface does not allow (`MIN_ALIGN`).
