@@ -188,7 +188,9 @@ pub fn check_setup(config: &PackConfig, pellet: &Pellet) -> Result<(), PackError
     new_world(config, pellet).map(|_| ())
 }
 
-fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_sim::TypeId), PackError> {
+/// The empty world of a pack run: the tube, materials and engine parameters of `config`, and
+/// `pellet` registered as its one type (refused if the tube is too narrow for it).
+pub fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_sim::TypeId), PackError> {
     let tube_radius = 0.5 * config.tube_diameter_m;
     let min_radius = narrowest_tube_radius(pellet);
     if tube_radius <= min_radius {

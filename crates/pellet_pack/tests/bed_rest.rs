@@ -22,7 +22,7 @@ fn the_creeping_narrow_tube_cylinder_bed_comes_to_rest() {
     let pellet =
         Pellet::build(ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 }, Resolution::default()).unwrap();
     let config = common::pack_config(33.65, poses.len() as u32, |_| {});
-    let mut world = common::restart_world(&config, common::pack_params(&config), &pellet, &poses);
+    let mut world = common::restart_world(&config, pellet_pack::engine_params(&config), &pellet, &poses);
     let mut pipeline = Pipeline::new();
     let mut max_penetration: f64 = 0.0;
     while world.time() < 0.1 - 1e-9 {

@@ -42,7 +42,7 @@ fn restart_from_a_frame() {
         o.cor = std::env::var("COR").ok().map(|v| v.parse().unwrap());
         o.friction = std::env::var("FRICTION").ok().map(|v| v.parse().unwrap());
     });
-    let mut params = common::pack_params(&config);
+    let mut params = pellet_pack::engine_params(&config);
     if let Ok(v) = std::env::var("EXACT_FALLBACK") {
         params.exact_fallback_max_rows = v.parse().unwrap();
     }

@@ -1,10 +1,12 @@
 //! Non-spherical pellets through the pack driver: a few cylinders end to end, and the mesh
 //! (parry grid) path of the engine against the closed form on the same samples.
 
+mod common;
+
 use pellet_geom::{Pellet, Resolution, ShapeSpec};
 use pellet_io::{EnergyRecord, Frame};
 use pellet_pack::driver::mesh_shape;
-use pellet_pack::{run_pack, Ending, PackConfig, PackOptions, RunSink};
+use pellet_pack::{run_pack, Ending, RunSink};
 use pellet_sim::geometry::narrow_phase::{collide_pair, Pellet as SimPellet};
 use pellet_sim::geometry::samples::TypeGeometry;
 use pellet_sim::{BodyType, Container, EngineParams, Material, Quat, ShapeDesc, Vec3, WallMaterial, World};
@@ -28,14 +30,7 @@ impl RunSink for Frames {
 fn pack_cylinders(tube_mm: f64, count: u32, max_time_s: f64) -> (pellet_pack::RunSummary, Frames) {
     let pellet =
         Pellet::build(ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 }, Resolution::default()).unwrap();
-    let options = PackOptions {
-        pellet: Some("c.pellet".into()),
-        tube_diameter: Some(tube_mm),
-        count: Some(count),
-        max_time: Some(max_time_s),
-        ..Default::default()
-    };
-    let config = PackConfig::resolve(&options).unwrap();
+    let config = common::pack_config(tube_mm, count, |o| o.max_time = Some(max_time_s));
     let mut sink = Frames::default();
     let summary = run_pack(&config, &pellet, &mut sink).unwrap();
     (summary, sink)

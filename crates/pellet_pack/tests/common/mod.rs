@@ -1,10 +1,11 @@
-//! Shared by the pack-level engine tests: a world restarted from a bed's poses, every pellet at
-//! rest, with pack's engine parameters.
+//! Shared by the pack-level tests: pack's configuration for a tube, and a world restarted from a
+//! bed's poses with every pellet at rest. Each test binary uses part of it.
+#![allow(dead_code)]
 
 use pellet_geom::Pellet;
-use pellet_pack::driver::body_type;
-use pellet_pack::{engine_params, PackConfig, PackOptions};
-use pellet_sim::{Container, EngineParams, Material, Quat, Vec3, WallMaterial, World};
+use pellet_pack::driver::new_world;
+use pellet_pack::{PackConfig, PackOptions};
+use pellet_sim::{EngineParams, Quat, Vec3, World};
 
 /// Pack's configuration for a tube of `tube_mm` (defaults otherwise), with `edit` applied to
 /// the options first.
@@ -19,21 +20,18 @@ pub fn pack_config(tube_mm: f64, count: u32, edit: impl FnOnce(&mut PackOptions)
     PackConfig::resolve(&options).expect("a valid pack configuration")
 }
 
-/// A world of `pellet`s at `poses` ((x, y, z) in m, (w, x, y, z) body → world), at rest, in the
-/// tube of `config`, with `params` (pack's are [`engine_params`]). A resting pellet may sit a
-/// few µm into the floor or the wall, which `add_body` refuses: such a pellet is moved 10 µm up
-/// and 10 µm towards the axis.
+/// A world of `pellet`s at `poses` ((x, y, z) in m, (w, x, y, z) body → world), at rest, set up
+/// as pack sets it up for `config`, then with `params` (pack's are [`pellet_pack::engine_params`]). A resting
+/// pellet may sit a few µm into the floor or the wall, which `add_body` refuses: such a pellet
+/// is moved 10 µm up and 10 µm towards the axis.
 pub fn restart_world(
     config: &PackConfig,
     params: EngineParams,
     pellet: &Pellet,
     poses: &[([f64; 3], [f64; 4])],
 ) -> World {
-    let material = Material { density: config.density_kg_m3, cor: config.cor, friction: config.friction };
-    let wall = WallMaterial { cor: config.wall_cor, friction: config.wall_friction };
-    let container = Container::tube(config.tube_diameter_m).expect("a valid tube");
-    let mut world = World::new(container, material, wall, params).expect("valid parameters");
-    let ty = world.register_type(body_type(pellet).expect("an engine shape")).expect("the pellet fits");
+    let (mut world, ty) = new_world(config, pellet).expect("pack's world for this configuration");
+    world.set_params(params).expect("valid engine parameters");
     for (p, q) in poses {
         let q = Quat::new_normalize(nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]));
         let p = Vec3::from(*p);
@@ -44,9 +42,4 @@ pub fn restart_world(
         }
     }
     world
-}
-
-/// Pack's engine parameters for `config`.
-pub fn pack_params(config: &PackConfig) -> EngineParams {
-    engine_params(config)
 }
