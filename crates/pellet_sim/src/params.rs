@@ -60,6 +60,11 @@ pub struct EngineParams {
     pub exact_fallback_max_rows: usize,
     /// Solver for larger islands.
     pub iterative_solver: IterativeSolver,
+    /// Sweep cap of the coupled normal-and-friction Gauss–Seidel that polishes an iteratively
+    /// solved island whose frictional contacts are all static and whose friction fixed point
+    /// ended unconverged (0: never). Serialised parameters from before it existed read as 0.
+    #[serde(default)]
+    pub coupled_friction_sweeps: usize,
     /// Residual tolerance of the iterative solvers as a factor of |g| (or of 9.81 if g = 0).
     pub solver_tolerance_factor: Real,
     /// Iteration cap of APGD.
@@ -90,6 +95,7 @@ impl Default for EngineParams {
             exact_solver_max_rows: 64,
             exact_fallback_max_rows: 0,
             iterative_solver: IterativeSolver::Apgd,
+            coupled_friction_sweeps: 1000,
             solver_tolerance_factor: 1e-4,
             apgd_max_iterations: 200,
             pgs_max_iterations: 500,

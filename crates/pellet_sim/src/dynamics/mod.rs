@@ -2,6 +2,7 @@
 //! position projection.
 
 pub mod collide;
+pub mod coupled_pgs;
 pub mod friction_guard;
 pub mod friction_update;
 pub mod integrator;
