@@ -36,15 +36,18 @@ impl BroadPhase {
         sorted.sort_by(|a, b| a.total_cmp(b));
         let cell = (2.0 * sorted[n / 2]).max(1e-9);
         for (i, (c, &r)) in centres.iter().zip(radii).enumerate() {
-            let lo = (c - Vec3::repeat(r)) / cell;
-            let hi = (c + Vec3::repeat(r)) / cell;
-            let (x0, y0, z0) = (lo.x.floor() as i64, lo.y.floor() as i64, lo.z.floor() as i64);
-            let (x1, y1, z1) = (hi.x.floor() as i64, hi.y.floor() as i64, hi.z.floor() as i64);
-            let count = (x1 - x0 + 1) * (y1 - y0 + 1) * (z1 - z0 + 1);
-            if count > MAX_CELLS_PER_BODY {
+            let lo = ((c - Vec3::repeat(r)) / cell).map(Real::floor);
+            let hi = ((c + Vec3::repeat(r)) / cell).map(Real::floor);
+            // Counted in floating point: a body flung far (or a huge swept radius) must not
+            // overflow the integer cell range; such a body is tested against everyone.
+            let count = (hi - lo).add_scalar(1.0).product();
+            let far = !lo.iter().chain(hi.iter()).all(|v| v.abs() < 1e6);
+            if far || count.is_nan() || count > MAX_CELLS_PER_BODY as Real {
                 self.oversized.push(i as u32);
                 continue;
             }
+            let (x0, y0, z0) = (lo.x as i64, lo.y as i64, lo.z as i64);
+            let (x1, y1, z1) = (hi.x as i64, hi.y as i64, hi.z as i64);
             for ix in x0..=x1 {
                 for iy in y0..=y1 {
                     for iz in z0..=z1 {
@@ -111,5 +114,17 @@ mod tests {
         }
         assert_eq!(got, want);
         assert!(!want.is_empty());
+    }
+
+    /// A body with an enormous swept radius or far away (a solver gone wrong upstream) must
+    /// neither overflow the cell arithmetic nor allocate cells for its whole extent: it was an
+    /// 8 GiB allocation before.
+    #[test]
+    fn huge_or_distant_spheres_do_not_blow_up_the_grid() {
+        let centres = vec![Vec3::zeros(), Vec3::new(0.5, 0.0, 0.0), Vec3::new(1e300, 0.0, 0.0), Vec3::zeros()];
+        let radii = vec![0.3, 0.3, 0.3, 1e200];
+        let mut bp = BroadPhase::default();
+        let got = bp.overlapping_pairs(&centres, &radii).to_vec();
+        assert_eq!(got, vec![(0, 1), (0, 3), (1, 3)]);
     }
 }
