@@ -134,3 +134,42 @@ fn a_cylinder_bed_settles() {
     assert_eq!(summary.ending, Ending::Settled, "not settled: {:?}", summary.settle);
     assert!(summary.max_penetration_m < 1e-2 * 0.01, "penetration {}", summary.max_penetration_m);
 }
+
+/// The first 1.1 s of the paper's ring bed (D = 40.45 mm, seed 1, one column, filled to 120
+/// mm): on a 41-row island at t = 1.048 s the friction fixed point of the exact fallback grew
+/// ×12 per round (normal forces from 0.07 N to 1e20 N) and flung the bed out of the tube
+/// (`pellet_sim` NOTES, 2026-11-24 second session). Every recorded pellet must stay inside the
+/// tube and above the floor, and no pellet may move faster than a pellet dropped from the
+/// feed height could (≈ 2 m/s; bound 5 m/s).
+#[test]
+fn the_paper_ring_bed_is_not_flung_out() {
+    let pellet = Pellet::build(
+        ShapeSpec::Ring { outer_diameter_mm: 10.0, inner_diameter_mm: 6.0, height_mm: 10.0 },
+        Resolution::default(),
+    )
+    .unwrap();
+    let config = common::pack_config(40.45, 1, |o| {
+        o.count = None;
+        o.fill_height = Some(120.0);
+        o.seed = Some(1);
+        o.max_time = Some(1.1);
+    });
+    let mut sink = Frames::default();
+    let summary = run_pack(&config, &pellet, &mut sink).expect("no engine error");
+    println!("{summary:?}");
+    assert!(summary.pellets >= 15, "pellets released by 1.1 s: {}", summary.pellets);
+    let radius = 0.5 * 40.45e-3;
+    let mut fastest: f64 = 0.0;
+    for pair in sink.0.windows(2) {
+        let (a, b) = (&pair[0], &pair[1]);
+        for (i, p) in b.positions.iter().enumerate() {
+            assert!(p[0].hypot(p[1]) < radius && p[2] > 0.0, "pellet {i} outside at t = {}: {p:?}", b.time_s);
+            if let Some(q) = a.positions.get(i) {
+                let d = ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt();
+                fastest = fastest.max(d / (b.time_s - a.time_s));
+            }
+        }
+    }
+    println!("fastest pellet between frames: {fastest:.2} m/s");
+    assert!(fastest < 5.0, "a pellet moved at {fastest:.1} m/s");
+}

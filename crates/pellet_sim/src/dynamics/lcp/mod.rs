@@ -149,20 +149,10 @@ pub fn solve_auto(
     pgs_iterations: usize,
 ) -> LcpReport {
     if a.dim() <= max_exact {
-        let warm = f.to_vec();
         let mut solver = baraff::Baraff::default();
         let rep = solver.solve(a, b, f, exact_tol);
-        // Pivoting on a nearly singular clamped set (redundant rows of a flat ring-on-ring
-        // patch) can end "converged" with garbage: in the paper's 40.45 mm ring bed a 41-row
-        // island came back with a residual of 1e15 m/s², and the bed was flung out. An answer
-        // less accurate than the iterative tolerance goes to the iterative solver, from the
-        // warm start.
-        let accurate = rep.residual <= tol;
-        if rep.status == LcpStatus::Infeasible || (rep.status == LcpStatus::Converged && accurate) {
+        if rep.status == LcpStatus::Converged || rep.status == LcpStatus::Infeasible {
             return rep;
-        }
-        if !accurate {
-            f.copy_from_slice(&warm);
         }
     }
     if use_apgd {
