@@ -1,19 +1,19 @@
-//! Normal forces and friction of one island in one projected Gauss–Seidel: every sweep visits
-//! each contact, updates its normal multiplier (f ≥ 0) and then its friction (static: the disc
-//! |g| ≤ μ f of the normal force just computed; dynamic: −μ f along the slip).
+//! Normal forces and static friction of one island in one projected Gauss–Seidel: every sweep
+//! visits each contact, updates its normal multiplier (f ≥ 0) and then its static friction, in
+//! the disc |g| ≤ μ f of the normal force just computed.
 //!
 //! Why: the fixed point of `island_solve` alternates a full normal solve with a few sweeps of
 //! static friction at fixed normal forces. On islands of ~1300 rows (a ring bed of 98 rings
 //! in a 40.45 mm tube) its 10 rounds × 5 sweeps end far from the answer every substep, and the
 //! bed creeps (NOTES, 2026-11-24). Coupled in one sweep, a change of a normal force reaches the
 //! friction bound of the same contact at once, and each sweep costs one pass over the rows, so
-//! the cost is bounded by the sweep cap.
+//! the cost is bounded by the sweep cap. `island_solve` uses it only on islands whose
+//! frictional contacts are all static, so dynamic (sliding) entries are left as given.
 
-use super::friction_update::{Friction, FrictionEntry};
+use super::friction_update::{static_step, Friction, FrictionEntry};
 use super::lcp::{LcpReport, LcpStatus};
 use super::rows::RowSystem;
 use crate::math::Real;
-use crate::params::FrictionClamp;
 
 /// One island's coupled problem.
 pub struct CoupledProblem<'a> {
@@ -25,8 +25,6 @@ pub struct CoupledProblem<'a> {
     pub fric: &'a [FrictionEntry],
     /// Free tangential accelerations of `fric` along t1, t2, m/s².
     pub free_t: &'a [(Real, Real)],
-    /// Clamp rule of dynamic friction that would reverse the slip within `dt`.
-    pub clamp: FrictionClamp,
     /// Substep, s.
     pub dt: Real,
 }
@@ -38,10 +36,11 @@ impl CoupledProblem<'_> {
     /// report's residual is the worse of the two measures.
     ///
     /// Gauss–Seidel with a friction disc that follows the normal force is not a projection onto
-    /// a fixed convex set and can diverge: in a pour of 98 rings its forces grew without bound
-    /// over the sweeps until a body was flung out (an 8 GiB broad-phase allocation). So the
-    /// iterate with the smallest measure is kept, and the sweeps stop once the measure has grown
-    /// a thousandfold over the best: the answer is never worse than the warm start.
+    /// a fixed convex set and can diverge, by the same feedback (friction raising the normal
+    /// forces that bound it) that made `island_solve`'s fixed point diverge on a wedged ring (see
+    /// its `DIVERGENCE_FACTOR`); not seen in these sweeps so far. So the iterate with the smallest
+    /// measure is kept, and the sweeps stop once the measure has grown a thousandfold over the
+    /// best: the answer is never worse than the warm start.
     pub fn solve(&self, f: &mut [Real], gt: &mut [(Real, Real)], tol: Real, max_sweeps: usize) -> LcpReport {
         let (sys, fric, dt) = (self.sys, self.fric, self.dt);
         let n = sys.rows.len();
@@ -49,9 +48,6 @@ impl CoupledProblem<'_> {
         for (e, x) in fric.iter().enumerate() {
             entry_of[x.contact] = Some(e);
         }
-        // Whether each dynamic contact is clamped, decided on its first visit and then kept (as
-        // `update_dynamic` does), so that the sweeps cannot toggle between the two branches.
-        let mut clamped: Vec<Option<bool>> = vec![None; fric.len()];
         f.iter_mut().for_each(|fi| *fi = fi.max(0.0));
         let mut acc = sys.response(f);
         for (x, g) in fric.iter().zip(gt.iter()) {
@@ -90,32 +86,10 @@ impl CoupledProblem<'_> {
                 }
                 let Some(e) = entry_of[i] else { continue };
                 let (x, g) = (&fric[e], &mut gt[e]);
-                let (n1, n2) = match x.kind {
-                    Friction::Static => {
-                        let ft = self.free_t[e];
-                        let a1 = ft.0 + x.t1.dot(&acc) + x.slip.0 / dt;
-                        let a2 = ft.1 + x.t2.dot(&acc) + x.slip.1 / dt;
-                        let (mut n1, mut n2) = (g.0 - a1 / x.t1.diag, g.1 - a2 / x.t2.diag);
-                        let (norm, cap) = ((n1 * n1 + n2 * n2).sqrt(), x.mu * f[i]);
-                        if norm > cap {
-                            n1 *= cap / norm;
-                            n2 *= cap / norm;
-                        }
-                        (n1, n2)
-                    }
-                    Friction::Dynamic => {
-                        let mag = x.mu * f[i];
-                        let limit = x.slip.0 / (x.t1.diag * dt);
-                        if !*clamped[e].get_or_insert(mag > limit) {
-                            (-mag, 0.0)
-                        } else {
-                            match self.clamp {
-                                FrictionClamp::Stick => (-limit, 0.0),
-                                FrictionClamp::Zero => (0.0, 0.0),
-                            }
-                        }
-                    }
-                };
+                if x.kind != Friction::Static {
+                    continue;
+                }
+                let (n1, n2) = static_step(x, self.free_t[e], &acc, *g, f[i], dt);
                 let change = ((n1 - g.0) * x.t1.diag).abs().max(((n2 - g.1) * x.t2.diag).abs());
                 worst = worst.max(change);
                 x.t1.add_response(n1 - g.0, &mut acc);
@@ -164,8 +138,7 @@ mod tests {
         // Gravity in the plane's frame: −g cos θ along n, −g sin θ along t1.
         let b0 = [-G * angle.cos()];
         let free_t = [(-G * angle.sin(), 0.0)];
-        let problem =
-            CoupledProblem { sys: &sys, b0: &b0, fric: &fric, free_t: &free_t, clamp: FrictionClamp::Stick, dt: 1e-3 };
+        let problem = CoupledProblem { sys: &sys, b0: &b0, fric: &fric, free_t: &free_t, dt: 1e-3 };
         let (mut f, mut gt) = (vec![0.0], vec![(0.0, 0.0)]);
         let rep = problem.solve(&mut f, &mut gt, 1e-9, 100);
         (f[0], gt[0], rep)
@@ -198,8 +171,7 @@ mod tests {
         let sys = RowSystem { rows, n_bodies: 2 };
         // Free normal accelerations: between the bodies 0, at the floor −g.
         let b0 = [0.0, -G];
-        let problem =
-            CoupledProblem { sys: &sys, b0: &b0, fric: &[], free_t: &[], clamp: FrictionClamp::Stick, dt: 1e-3 };
+        let problem = CoupledProblem { sys: &sys, b0: &b0, fric: &[], free_t: &[], dt: 1e-3 };
         let mut f = vec![0.0, 0.0];
         let rep = problem.solve(&mut f, &mut [], 1e-9, 200);
         assert_eq!(rep.status, LcpStatus::Converged, "{rep:?}");

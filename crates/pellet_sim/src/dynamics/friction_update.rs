@@ -96,19 +96,35 @@ pub fn update_static(
             if x.kind != Friction::Static {
                 continue;
             }
-            let a1 = ft.0 + x.t1.dot(&acc) + x.slip.0 / dt;
-            let a2 = ft.1 + x.t2.dot(&acc) + x.slip.1 / dt;
-            let mut n1 = g.0 - a1 / x.t1.diag;
-            let mut n2 = g.1 - a2 / x.t2.diag;
-            let norm = (n1 * n1 + n2 * n2).sqrt();
-            let cap = x.mu * f[x.contact];
-            if norm > cap {
-                n1 *= cap / norm;
-                n2 *= cap / norm;
-            }
+            let (n1, n2) = static_step(x, *ft, &acc, *g, f[x.contact], dt);
             x.t1.add_response(n1 - g.0, &mut acc);
             x.t2.add_response(n2 - g.1, &mut acc);
             *g = (n1, n2);
         }
     }
+}
+
+/// One Gauss–Seidel step of a static contact: the friction multipliers (t1, t2) that bring its
+/// tangential velocity to zero at the end of the substep, from the current multipliers `g` and
+/// the accumulator `acc` (stacked body accelerations of every force so far), projected onto the
+/// disc |g| ≤ μ f of its normal force `f_normal`. `ft` is its free tangential acceleration.
+pub fn static_step(
+    x: &FrictionEntry,
+    ft: (Real, Real),
+    acc: &[Real],
+    g: (Real, Real),
+    f_normal: Real,
+    dt: Real,
+) -> (Real, Real) {
+    let a1 = ft.0 + x.t1.dot(acc) + x.slip.0 / dt;
+    let a2 = ft.1 + x.t2.dot(acc) + x.slip.1 / dt;
+    let mut n1 = g.0 - a1 / x.t1.diag;
+    let mut n2 = g.1 - a2 / x.t2.diag;
+    let norm = (n1 * n1 + n2 * n2).sqrt();
+    let cap = x.mu * f_normal;
+    if norm > cap {
+        n1 *= cap / norm;
+        n2 *= cap / norm;
+    }
+    (n1, n2)
 }

@@ -39,10 +39,11 @@ impl BroadPhase {
             let lo = ((c - Vec3::repeat(r)) / cell).map(Real::floor);
             let hi = ((c + Vec3::repeat(r)) / cell).map(Real::floor);
             // Counted in floating point: a body flung far (or a huge swept radius) must not
-            // overflow the integer cell range; such a body is tested against everyone.
+            // overflow the integer cell range; such a body is tested against everyone. A NaN
+            // centre or radius fails the `far` test too.
             let count = (hi - lo).add_scalar(1.0).product();
             let far = !lo.iter().chain(hi.iter()).all(|v| v.abs() < 1e6);
-            if far || count.is_nan() || count > MAX_CELLS_PER_BODY as Real {
+            if far || count > MAX_CELLS_PER_BODY as Real {
                 self.oversized.push(i as u32);
                 continue;
             }
