@@ -43,7 +43,7 @@ pub use error::SimError;
 pub use geometry::contact::{Contact, Counterpart};
 pub use geometry::sdf::SdfGrid;
 pub use math::{Mat3, Quat, Real, Vec3};
-pub use params::{EngineParams, FrictionClamp, IterativeSolver, Material, WallMaterial};
+pub use params::{ApproachBound, EngineParams, FrictionClamp, IterativeSolver, Material, WallMaterial};
 pub use pipeline::ledger::EnergyLedger;
 pub use pipeline::step::{ContactRecord, Pipeline, StepReport};
 pub use pipeline::world::World;

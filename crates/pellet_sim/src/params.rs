@@ -23,6 +23,21 @@ pub enum IterativeSolver {
     Pgs,
 }
 
+/// The approach-speed bound v_max of the substep rule δt = 0.2λ/v_max (physics.md §5.5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ApproachBound {
+    /// physics.md's bound for any shape: |v_A − v_B| + |ω_A|ρ_A + |ω_B|ρ_B per pair,
+    /// |v| + |ω|ρ + |g|δt_cap against a wall.
+    Speed,
+    /// As tight as each pair allows, still safe at constant velocity: for two spheres the
+    /// closing speed of their centres, −(v_A − v_B)·ĉ (their rotation moves no surface); against
+    /// the floor −v_z; against the tube wall the radial velocity plus what the tangential motion
+    /// and the turn of the wall normal over the body can add; other pairs as `Speed`. A body
+    /// falling beside the wall or with its neighbours no longer shrinks everyone's substep:
+    /// a batch pour of 690 spheres (D = 79.9 mm) takes 45 % fewer substeps in its first 0.3 s.
+    Normal,
+}
+
 /// All tunables, SI units. Lengths that scale with the pellet are given as factors of the
 /// reference pellet size `d` = twice the largest registered bounding radius.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -75,6 +90,16 @@ pub struct EngineParams {
     pub max_rotation_per_substep: Real,
     /// Largest number of rewind-and-halve attempts for one substep.
     pub max_rewinds: u32,
+    /// The approach-speed bound of the substep rule. Serialised parameters from before it
+    /// existed read as `Speed`, the bound they were run with.
+    #[serde(default = "ApproachBound::speed")]
+    pub approach_bound: ApproachBound,
+}
+
+impl ApproachBound {
+    fn speed() -> Self {
+        Self::Speed
+    }
 }
 
 impl Default for EngineParams {
@@ -101,6 +126,7 @@ impl Default for EngineParams {
             pgs_max_iterations: 500,
             max_rotation_per_substep: 0.01,
             max_rewinds: 8,
+            approach_bound: ApproachBound::Normal,
         }
     }
 }

@@ -4,9 +4,10 @@
 //! rewind-and-halve on excess penetration.
 
 use super::ledger::EnergyLedger;
+use super::proximity::Proximity;
 use super::world::World;
 use crate::body::Body;
-use crate::container::{Container, WallId};
+use crate::container::Container;
 use crate::dynamics::collide::collision_phase;
 use crate::dynamics::integrator::advance;
 use crate::dynamics::resting::resting_phase;
@@ -104,62 +105,7 @@ pub struct StepReport {
     pub wall_seconds: [Real; 4],
 }
 
-struct Proximity {
-    pairs: Vec<(usize, usize)>,
-    walls: Vec<(usize, WallId)>,
-    t_safe: Real,
-    v_max: Real,
-}
-
 impl World {
-    fn lambda(&self) -> Real {
-        self.params.proximity_factor * 0.5 * self.reference_size()
-    }
-
-    /// Near pairs/walls (bounding gap ≤ λ) and the time before any other pair can come within λ/2.
-    fn proximity(&self, broad: &mut BroadPhase, horizon: Real) -> Proximity {
-        let lambda = self.lambda();
-        let g = self.params.gravity.norm();
-        let centres: Vec<Vec3> = self.bodies.iter().map(|b| b.position).collect();
-        let radii: Vec<Real> =
-            self.bodies.iter().map(|b| b.bounding_radius + lambda + b.velocity().norm() * horizon).collect();
-        let mut p = Proximity { pairs: Vec::new(), walls: Vec::new(), t_safe: Real::INFINITY, v_max: 0.0 };
-        for &(i, j) in broad.overlapping_pairs(&centres, &radii) {
-            let (bi, bj) = (&self.bodies[i as usize], &self.bodies[j as usize]);
-            let gap = (bi.position - bj.position).norm() - bi.bounding_radius - bj.bounding_radius;
-            let v_rel = (bi.velocity() - bj.velocity()).norm();
-            if gap <= lambda {
-                p.pairs.push((i as usize, j as usize));
-                let w = bi.angular_velocity().norm() * bi.bounding_radius
-                    + bj.angular_velocity().norm() * bj.bounding_radius;
-                p.v_max = p.v_max.max(v_rel + w);
-            } else if v_rel > 0.0 {
-                p.t_safe = p.t_safe.min((gap - 0.5 * lambda) / v_rel);
-            }
-        }
-        for (k, b) in self.bodies.iter().enumerate() {
-            let v = b.velocity().norm();
-            self.container.wall_gaps(&b.position, b.bounding_radius, |wall, gap| {
-                if gap <= lambda {
-                    p.walls.push((k, wall));
-                    let w = b.angular_velocity().norm() * b.bounding_radius;
-                    p.v_max = p.v_max.max(v + w + g * self.params.dt_cap);
-                } else {
-                    let s = gap - 0.5 * lambda;
-                    let t = if g > 0.0 {
-                        (-v + (v * v + 2.0 * g * s).sqrt()) / g
-                    } else if v > 0.0 {
-                        s / v
-                    } else {
-                        Real::INFINITY
-                    };
-                    p.t_safe = p.t_safe.min(t);
-                }
-            });
-        }
-        p
-    }
-
     fn free_flight(&mut self, dt: Real, report: &mut StepReport) {
         let g = self.params.gravity;
         let max_rot = self.params.max_rotation_per_substep;

@@ -1,0 +1,268 @@
+//! Which pairs and walls are near, how fast they can close, and how long the rest may fly
+//! freely: the inputs of the substep rule δt = min(0.2λ/v_max, δt_cap, t_safe) (physics.md §5.5).
+
+use super::world::World;
+use crate::body::Body;
+use crate::container::{Container, WallId};
+use crate::geometry::broad_phase::BroadPhase;
+use crate::math::{Real, Vec3};
+use crate::params::ApproachBound;
+use crate::shape::ShapeDesc;
+
+/// Near pairs and walls of one substep.
+pub(crate) struct Proximity {
+    /// Body pairs whose bounding spheres are within λ.
+    pub pairs: Vec<(usize, usize)>,
+    /// Bodies within λ of a wall.
+    pub walls: Vec<(usize, WallId)>,
+    /// Time before any other pair or wall can come within λ/2, s.
+    pub t_safe: Real,
+    /// Upper bound on the closing speed of any near pair or wall, m/s.
+    pub v_max: Real,
+}
+
+impl World {
+    /// λ, the proximity distance, m.
+    pub(crate) fn lambda(&self) -> Real {
+        self.params.proximity_factor * 0.5 * self.reference_size()
+    }
+
+    /// Near pairs/walls (bounding gap ≤ λ), their closing-speed bound, and the time before any
+    /// other pair can come within λ/2. `horizon` inflates the broad phase by each body's travel.
+    pub(crate) fn proximity(&self, broad: &mut BroadPhase, horizon: Real) -> Proximity {
+        let lambda = self.lambda();
+        let g = self.params.gravity.norm();
+        let dt_cap = self.params.dt_cap;
+        let normal = self.params.approach_bound == ApproachBound::Normal;
+        let centres: Vec<Vec3> = self.bodies.iter().map(|b| b.position).collect();
+        let radii: Vec<Real> =
+            self.bodies.iter().map(|b| b.bounding_radius + lambda + b.velocity().norm() * horizon).collect();
+        // A sphere's rotation moves none of its surface: its gaps close only by translation.
+        let round: Vec<bool> = self
+            .bodies
+            .iter()
+            .map(|b| matches!(self.types[b.type_id.0 as usize].shape, ShapeDesc::Sphere { .. }))
+            .collect();
+        let spin = |k: usize| {
+            let b = &self.bodies[k];
+            if normal && round[k] {
+                0.0
+            } else {
+                b.angular_velocity().norm() * b.bounding_radius
+            }
+        };
+        let mut p = Proximity { pairs: Vec::new(), walls: Vec::new(), t_safe: Real::INFINITY, v_max: 0.0 };
+        for &(i, j) in broad.overlapping_pairs(&centres, &radii) {
+            let (i, j) = (i as usize, j as usize);
+            let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+            let c = bi.position - bj.position;
+            let gap = c.norm() - bi.bounding_radius - bj.bounding_radius;
+            let v = bi.velocity() - bj.velocity();
+            // At constant velocities the centre distance |c + v t| is convex in t, so it closes
+            // at most at its initial rate −v·ĉ; for other shapes the contact normal can point
+            // anywhere, so the whole relative speed counts.
+            let closing = if normal && round[i] && round[j] && c.norm() > 0.0 {
+                (-v.dot(&c) / c.norm()).max(0.0)
+            } else {
+                v.norm()
+            };
+            if gap <= lambda {
+                p.pairs.push((i, j));
+                p.v_max = p.v_max.max(closing + spin(i) + spin(j));
+            } else if closing > 0.0 {
+                p.t_safe = p.t_safe.min((gap - 0.5 * lambda) / closing);
+            }
+        }
+        for (k, b) in self.bodies.iter().enumerate() {
+            self.container.wall_gaps(&b.position, b.bounding_radius, |wall, gap| {
+                if gap <= lambda {
+                    let v = if normal {
+                        wall_closing(&self.container, wall, b, round[k], dt_cap)
+                    } else {
+                        b.velocity().norm()
+                    };
+                    p.walls.push((k, wall));
+                    p.v_max = p.v_max.max(v + spin(k) + g * dt_cap);
+                } else {
+                    // Free flight can last far longer than δt_cap: only bounds valid over any
+                    // time (a straight line's distance to the axis changes at most at |v_xy|).
+                    let v = match (normal, wall) {
+                        (true, WallId::Floor) => (-b.velocity().z).max(0.0),
+                        (true, WallId::Tube) => b.velocity().xy().norm(),
+                        _ => b.velocity().norm(),
+                    };
+                    let s = gap - 0.5 * lambda;
+                    let t = if g > 0.0 {
+                        (-v + (v * v + 2.0 * g * s).sqrt()) / g
+                    } else if v > 0.0 {
+                        s / v
+                    } else {
+                        Real::INFINITY
+                    };
+                    p.t_safe = p.t_safe.min(t);
+                }
+            });
+        }
+        p
+    }
+}
+
+/// Upper bound on how fast body `b`'s translation closes its bounding gap to a wall: the
+/// velocity into the wall; for the curved tube wall also what tangential motion adds over one
+/// substep of at most `dt_cap` (second order) and the turn of the wall normal across the body (the nearest
+/// point of a body that is not `round` need not lie on the centre's radius).
+fn wall_closing(container: &Container, wall: WallId, b: &Body, round: bool, dt_cap: Real) -> Real {
+    let v = b.velocity();
+    match wall {
+        WallId::Floor => (-v.z).max(0.0),
+        WallId::Lid => v.z.max(0.0),
+        WallId::Tube => {
+            let r = b.position.x.hypot(b.position.y);
+            let vxy = Vec3::new(v.x, v.y, 0.0);
+            if r <= 1e-12 {
+                return vxy.norm();
+            }
+            let radial = Vec3::new(b.position.x / r, b.position.y / r, 0.0);
+            let vr = vxy.dot(&radial);
+            let vt = (vxy - vr * radial).norm();
+            let turn = if round {
+                0.0
+            } else {
+                (b.bounding_radius / (container.tube_radius - b.bounding_radius).max(1e-12)).min(1.0)
+            };
+            // |x + v t| ≤ r + v_r t + (v_t t)²/(2(r + v_r t)), with r + v_r t ≥ r − |v_r| δt_cap.
+            let inner = r - vr.abs() * dt_cap;
+            let curving = if inner > 0.0 { (vt * vt * dt_cap / (2.0 * inner)).min(vt) } else { vt };
+            vr.max(0.0) + curving + vt * turn
+        }
+        WallId::Plane(_) => v.norm(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::{EngineParams, Material, WallMaterial};
+    use crate::shape::BodyType;
+    use crate::{Quat, TypeId};
+
+    const R: Real = 0.005;
+
+    fn world(bound: ApproachBound, cylinder: bool) -> (World, TypeId) {
+        let params = EngineParams { approach_bound: bound, ..EngineParams::default() };
+        let mat = Material { density: 2000.0, cor: 0.5, friction: 0.3 };
+        let wall = WallMaterial { cor: 0.5, friction: 0.3 };
+        let mut w = World::new(Container::tube(0.04).unwrap(), mat, wall, params).unwrap();
+        let ty = if cylinder { BodyType::solid_cylinder(R, R) } else { BodyType::solid_sphere(R) };
+        let t = w.register_type(ty.unwrap()).unwrap();
+        (w, t)
+    }
+
+    fn v_max(w: &World) -> Real {
+        w.proximity(&mut BroadPhase::default(), w.params.dt_cap).v_max
+    }
+
+    /// Two spheres falling side by side at 2 m/s, one touching the tube wall, high above the
+    /// floor: nothing closes except by gravity over a substep.
+    #[test]
+    fn bodies_falling_together_beside_the_wall_do_not_shrink_the_substep() {
+        let fall = Vec3::new(0.0, 0.0, -2.0);
+        for (bound, expect_fast) in [(ApproachBound::Normal, false), (ApproachBound::Speed, true)] {
+            let (mut w, t) = world(bound, false);
+            w.add_body(t, Vec3::new(0.015 - 1e-5, 0.0, 0.1), Quat::identity(), fall, Vec3::zeros()).unwrap();
+            w.add_body(t, Vec3::new(0.005 - 2e-5, 0.0, 0.1), Quat::identity(), fall, Vec3::new(0.0, 50.0, 0.0))
+                .unwrap();
+            let p = w.proximity(&mut BroadPhase::default(), w.params.dt_cap);
+            assert_eq!((p.pairs.len(), p.walls.len()), (1, 1));
+            let gravity_part = w.params.gravity.norm() * w.params.dt_cap;
+            if expect_fast {
+                assert!(p.v_max >= 2.0, "{bound:?}: {}", p.v_max);
+            } else {
+                assert!(p.v_max <= gravity_part + 1e-12, "{bound:?}: {}", p.v_max);
+            }
+        }
+    }
+
+    /// A cylinder's spin sweeps its corners: its ω·ρ still counts under the normal bound.
+    #[test]
+    fn a_spinning_cylinder_keeps_its_rotational_term() {
+        let (mut w, t) = world(ApproachBound::Normal, true);
+        w.add_body(t, Vec3::new(0.0, 0.0, 0.1), Quat::identity(), Vec3::zeros(), Vec3::new(0.0, 0.0, 0.0)).unwrap();
+        let spin = Vec3::new(20.0, 0.0, 0.0);
+        let rho = w.bodies[0].bounding_radius;
+        w.add_body(t, Vec3::new(0.0, 0.0, 0.1 + 2.0 * rho + 1e-5), Quat::identity(), Vec3::zeros(), spin).unwrap();
+        assert!((v_max(&w) - 20.0 * rho).abs() < 1e-9, "{} vs {}", v_max(&w), 20.0 * rho);
+    }
+
+    /// The bound is safe: over any substep up to the cap, at constant velocities, no near pair
+    /// of spheres and no sphere near the tube wall or floor closes its gap by more than
+    /// v_max·δt. Random states, a fixed seed.
+    #[test]
+    fn the_normal_bound_covers_every_closing_of_spheres() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as Real / (1u64 << 53) as Real
+        };
+        let tube = 0.02;
+        let (mut tried, mut near, mut far) = (0, 0, 0);
+        for _ in 0..8000 {
+            let (mut w, t) = world(ApproachBound::Normal, false);
+            let mut centred = || Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5);
+            let dir = centred().normalize();
+            let (va, vb) = (centred() * 6.0, centred() * 6.0);
+            let a = Vec3::new(tube - R - 1e-4 * uniform(), 0.0, R + 1e-4 * uniform());
+            let b = a - dir * (2.0 * R + 4e-4 * uniform());
+            if b.x.hypot(b.y) > tube - R || b.z < R {
+                continue;
+            }
+            tried += 1;
+            w.add_body(t, a, Quat::identity(), va, Vec3::zeros()).unwrap();
+            w.add_body(t, b, Quat::identity(), vb, Vec3::zeros()).unwrap();
+            let p = w.proximity(&mut BroadPhase::default(), w.params.dt_cap);
+            // Gravity's share of a wall's bound is not in these straight-line motions.
+            let (pair_bound, wall_bound) = (p.v_max, p.v_max - w.params.gravity.norm() * w.params.dt_cap);
+            let dt = w.params.dt_cap * uniform();
+            let (a1, b1) = (a + va * dt, b + vb * dt);
+            let gap = |x: Vec3, y: Vec3| (x - y).norm() - 2.0 * R;
+            let floor = |x: Vec3| x.z - R;
+            let side = |x: Vec3| tube - x.x.hypot(x.y) - R;
+            let lambda = w.lambda();
+            for (before, after, bound) in [
+                (gap(a, b), gap(a1, b1), pair_bound),
+                (floor(a), floor(a1), wall_bound),
+                (floor(b), floor(b1), wall_bound),
+                (side(a), side(a1), wall_bound),
+                (side(b), side(b1), wall_bound),
+            ] {
+                if before <= lambda {
+                    assert!(
+                        before - after <= bound * dt * (1.0 + 1e-9) + 1e-15,
+                        "closed {} > {}",
+                        before - after,
+                        bound * dt
+                    );
+                    near += 1;
+                }
+            }
+            // Far gaps stay above λ/2 for t_safe, which can be much longer than a substep.
+            let flight = p.t_safe.min(0.05);
+            let (a1, b1) = (a + va * flight, b + vb * flight);
+            for (before, after) in [
+                (gap(a, b), gap(a1, b1)),
+                (floor(a), floor(a1)),
+                (floor(b), floor(b1)),
+                (side(a), side(a1)),
+                (side(b), side(b1)),
+            ] {
+                if before > lambda {
+                    assert!(after >= 0.5 * lambda * (1.0 - 1e-9), "far gap {before} fell to {after} within t_safe");
+                    far += 1;
+                }
+            }
+        }
+        assert!(tried > 1000 && near > 3000 && far > 100, "{tried} states inside the tube, {near} near, {far} far");
+    }
+}
