@@ -34,13 +34,24 @@ pub fn read_input(path: &str) -> Result<Vec<u8>, IoError> {
     std::fs::read(path).map_err(|source| IoError::Io { path: path.into(), source })
 }
 
+/// Whether `path` names an existing file that is neither a regular file nor a directory (a
+/// device such as `/dev/null` or `/dev/stdout`, a FIFO, a socket). Such a target must be
+/// written in place: renaming a finished temporary file onto it would replace it (as root,
+/// `-o /dev/null` replaced the null device with a regular file, and every later reader of
+/// /dev/null got the last bytes written there).
+pub fn is_special_file(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// Writes every output, all or nothing as far as the file system allows:
 /// each is first written in full to a temporary file beside its target,
-/// and only when all are complete are they renamed into place. Stdout
-/// (`-`) is written last.
+/// and only when all are complete are they renamed into place. Special
+/// files (devices, FIFOs: [`is_special_file`]) are written in place after
+/// that, and stdout (`-`) last.
 pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
     let mut staged = Vec::new();
-    for out in outputs.iter().filter(|o| o.path != "-") {
+    let in_place = |o: &&OutputFile| o.path != "-" && is_special_file(Path::new(&o.path));
+    for out in outputs.iter().filter(|o| o.path != "-" && !in_place(o)) {
         let target = Path::new(&out.path);
         let dir = match target.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
@@ -64,6 +75,11 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
     for (tmp, target) in staged {
         tmp.persist(target).map_err(|e| IoError::Io { path: target.display().to_string(), source: e.error })?;
     }
+    for out in outputs.iter().filter(in_place) {
+        let io = |source| IoError::Io { path: out.path.clone(), source };
+        let mut file = std::fs::OpenOptions::new().write(true).open(&out.path).map_err(io)?;
+        file.write_all(&out.bytes).and_then(|_| file.flush()).map_err(io)?;
+    }
     for out in outputs.iter().filter(|o| o.path == "-") {
         let stdout = std::io::stdout();
         if out.binary && stdout.is_terminal() {
@@ -79,7 +95,34 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
 
 #[cfg(all(test, unix))]
 mod tests {
-    use std::os::unix::fs::PermissionsExt;
+    use std::os::unix::fs::{FileTypeExt, PermissionsExt};
+
+    /// A FIFO with a reader that collects what is written into it.
+    pub(crate) fn fifo_with_reader(dir: &std::path::Path) -> (std::path::PathBuf, std::thread::JoinHandle<Vec<u8>>) {
+        let fifo = dir.join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
+        assert!(made.success());
+        let path = fifo.clone();
+        let reader = std::thread::spawn(move || std::fs::read(path).unwrap());
+        (fifo, reader)
+    }
+
+    /// An output that is a FIFO (or a device such as /dev/null) is written into, not replaced.
+    #[test]
+    fn a_fifo_output_is_written_in_place() {
+        let dir = tempfile::tempdir().unwrap();
+        let (fifo, reader) = fifo_with_reader(dir.path());
+        super::write_outputs(&[super::OutputFile {
+            path: fifo.display().to_string(),
+            bytes: b"abc".to_vec(),
+            binary: false,
+            what: "test".into(),
+        }])
+        .unwrap();
+        // Checked before joining: had the FIFO been replaced, its reader would wait for ever.
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo(), "the FIFO was replaced");
+        assert_eq!(reader.join().unwrap(), b"abc");
+    }
 
     #[test]
     fn outputs_get_the_permissions_of_any_new_file() {

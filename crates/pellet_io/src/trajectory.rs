@@ -154,11 +154,18 @@ fn log_time(time_s: f64) -> u64 {
 }
 
 impl TrajectoryWriter {
-    /// Creates `<path>.part` and writes the header records.
+    /// Creates `<path>.part` and writes the header records. For a special file (`/dev/null`, a
+    /// FIFO: [`crate::is_special_file`]), which a rename would replace and MCAP cannot
+    /// seek in, the part file is in the temporary directory and `finish` copies it over.
     pub fn create(path: &Path, header: &TrajectoryHeader) -> Result<Self, IoError> {
-        let mut part = path.as_os_str().to_owned();
-        part.push(".part");
-        let part_path = PathBuf::from(part);
+        let part_path = if crate::atomic::is_special_file(path) {
+            let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            std::env::temp_dir().join(format!("packbed-{}-{name}.part", std::process::id()))
+        } else {
+            let mut part = path.as_os_str().to_owned();
+            part.push(".part");
+            PathBuf::from(part)
+        };
         let err = mcap_error(&part_path);
         let file =
             File::create(&part_path).map_err(|source| IoError::Io { path: part_path.display().to_string(), source })?;
@@ -322,8 +329,15 @@ impl TrajectoryWriter {
             use std::io::Write;
             inner.flush().map_err(|source| IoError::Io { path: self.part_path.display().to_string(), source })?;
         }
-        std::fs::rename(&self.part_path, &self.final_path)
-            .map_err(|source| IoError::Io { path: self.final_path.display().to_string(), source })?;
+        let io = |source| IoError::Io { path: self.final_path.display().to_string(), source };
+        if crate::atomic::is_special_file(&self.final_path) {
+            let mut part = File::open(&self.part_path).map_err(io)?;
+            let mut target = std::fs::OpenOptions::new().write(true).open(&self.final_path).map_err(io)?;
+            std::io::copy(&mut part, &mut target).map_err(io)?;
+            std::fs::remove_file(&self.part_path).map_err(io)?;
+        } else {
+            std::fs::rename(&self.part_path, &self.final_path).map_err(io)?;
+        }
         Ok(self.final_path.clone())
     }
 

@@ -84,3 +84,32 @@ fn packing_file_round_trip_and_validation() {
     let bad = encode_packing(&packing).unwrap();
     assert!(decode_packing(&bad, "p").unwrap_err().to_string().contains("pellet types"));
 }
+
+/// A trajectory written to a FIFO goes into the FIFO (no `.part` beside it, no rename over
+/// it) and reads back whole: `pack -o /dev/null` must not replace the null device.
+#[cfg(unix)]
+#[test]
+fn a_trajectory_to_a_fifo_is_written_in_place() {
+    use pellet_geom::Tube;
+    use pellet_io::{read_trajectory, Frame, TrajectoryHeader, TrajectoryWriter};
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("run.mcap");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
+    let path = fifo.clone();
+    let reader = std::thread::spawn(move || std::fs::read(path).unwrap());
+    let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
+    let files = [encode_pellet(&file(ShapeSpec::Sphere { diameter_mm: 10.0 })).unwrap()];
+    let tube = Tube { diameter: 0.04, lid_height: None };
+    let header =
+        TrajectoryHeader { provenance: &provenance, config_json: "{}", seed: 1, pellet_files: &files, tube: &tube };
+    let mut w = TrajectoryWriter::create(&fifo, &header).unwrap();
+    w.write_frame(&Frame { time_s: 0.5, ..Frame::default() }).unwrap();
+    w.finish().unwrap();
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo(), "the FIFO was replaced");
+    assert!(!dir.path().join("run.mcap.part").exists());
+    let bytes = reader.join().unwrap();
+    let t = read_trajectory(&bytes, "fifo").unwrap();
+    assert_eq!(t.frames.len(), 1);
+    assert_eq!(t.frames[0].time_s, 0.5);
+}

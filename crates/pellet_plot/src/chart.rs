@@ -224,6 +224,10 @@ impl Chart<'_> {
 /// Writes through a temporary file `.{name}.packbed-tmp.{ext}` beside
 /// `path`, renamed into place only when `write` succeeded.
 fn write_atomically(path: &Path, ext: &str, write: impl FnOnce(&Path) -> Result<(), String>) -> Result<(), String> {
+    // A device or FIFO is written in place: a rename would replace it.
+    if std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        return write(path);
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
