@@ -36,9 +36,11 @@ pub enum ApproachBound {
     /// spin moves none of its surface); a body near a wall it does not touch counts its velocity
     /// into the wall (the tube wall: radial, plus what tangential motion and, for non-spheres,
     /// the turn of the wall normal across the body add) plus its spin term unless it is a
-    /// sphere. So spheres falling beside the wall or their neighbours no longer shrink
-    /// everyone's substep: the first 0.3 s of a batch pour of 690 spheres (D = 79.9 mm) take
-    /// 4883 substeps instead of 5262 (`pipeline/proximity.rs` has the porosity check).
+    /// sphere. Pairs and walls farther than λ limit the free flight by the closing speed of the
+    /// bounding spheres alone, for any shape. So spheres falling beside the wall or their
+    /// neighbours no longer shrink everyone's substep: the first 0.3 s of a batch pour of 690
+    /// spheres (D = 79.9 mm) take 4883 substeps instead of 5262 (`pipeline/proximity.rs` has
+    /// the porosity check).
     Normal,
 }
 
