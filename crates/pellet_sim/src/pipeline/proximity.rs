@@ -65,7 +65,11 @@ impl World {
                 p.pairs.push((i, j));
                 // Inside the bounding spheres a non-sphere's contact normal can point anywhere
                 // and its spin sweeps its surface: the whole bound counts.
-                let bound = if round[i] && round[j] && gap > touching { closing } else { v.norm() + spin(i) + spin(j) };
+                let bound = if normal && round[i] && round[j] && gap > touching {
+                    closing
+                } else {
+                    v.norm() + (spin(i) + spin(j))
+                };
                 p.v_max = p.v_max.max(bound);
             } else if closing > 0.0 {
                 p.t_safe = p.t_safe.min((gap - 0.5 * lambda) / closing);
