@@ -49,9 +49,10 @@ pub fn is_special_file(path: &Path) -> bool {
 /// files (devices, FIFOs: [`is_special_file`]) are written in place after
 /// that, and stdout (`-`) last.
 pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
+    let (in_place, renamed): (Vec<&OutputFile>, Vec<&OutputFile>) =
+        outputs.iter().filter(|o| o.path != "-").partition(|o| is_special_file(Path::new(&o.path)));
     let mut staged = Vec::new();
-    let in_place = |o: &&OutputFile| o.path != "-" && is_special_file(Path::new(&o.path));
-    for out in outputs.iter().filter(|o| o.path != "-" && !in_place(o)) {
+    for out in renamed {
         let target = Path::new(&out.path);
         let dir = match target.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
@@ -75,7 +76,7 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
     for (tmp, target) in staged {
         tmp.persist(target).map_err(|e| IoError::Io { path: target.display().to_string(), source: e.error })?;
     }
-    for out in outputs.iter().filter(in_place) {
+    for out in in_place {
         let io = |source| IoError::Io { path: out.path.clone(), source };
         let mut file = std::fs::OpenOptions::new().write(true).open(&out.path).map_err(io)?;
         file.write_all(&out.bytes).and_then(|_| file.flush()).map_err(io)?;
@@ -97,21 +98,14 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
 mod tests {
     use std::os::unix::fs::{FileTypeExt, PermissionsExt};
 
-    /// A FIFO with a reader that collects what is written into it.
-    pub(crate) fn fifo_with_reader(dir: &std::path::Path) -> (std::path::PathBuf, std::thread::JoinHandle<Vec<u8>>) {
-        let fifo = dir.join("pipe");
-        let made = std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo");
-        assert!(made.success());
-        let path = fifo.clone();
-        let reader = std::thread::spawn(move || std::fs::read(path).unwrap());
-        (fifo, reader)
-    }
-
     /// An output that is a FIFO (or a device such as /dev/null) is written into, not replaced.
     #[test]
     fn a_fifo_output_is_written_in_place() {
         let dir = tempfile::tempdir().unwrap();
-        let (fifo, reader) = fifo_with_reader(dir.path());
+        let fifo = dir.path().join("pipe");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
+        let path = fifo.clone();
+        let reader = std::thread::spawn(move || std::fs::read(path).unwrap());
         super::write_outputs(&[super::OutputFile {
             path: fifo.display().to_string(),
             bytes: b"abc".to_vec(),

@@ -129,6 +129,8 @@ pub struct TrajectoryWriter {
     writer: Option<mcap::Writer<BufWriter<File>>>,
     part_path: PathBuf,
     final_path: PathBuf,
+    /// The target is a special file: `finish` copies the part file into it instead of renaming.
+    copy_over: bool,
     poses_channel: u16,
     energy_channel: u16,
     poses_sequence: u32,
@@ -158,7 +160,8 @@ impl TrajectoryWriter {
     /// FIFO: [`crate::is_special_file`]), which a rename would replace and MCAP cannot
     /// seek in, the part file is in the temporary directory and `finish` copies it over.
     pub fn create(path: &Path, header: &TrajectoryHeader) -> Result<Self, IoError> {
-        let part_path = if crate::atomic::is_special_file(path) {
+        let copy_over = crate::atomic::is_special_file(path);
+        let part_path = if copy_over {
             let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
             std::env::temp_dir().join(format!("packbed-{}-{name}.part", std::process::id()))
         } else {
@@ -219,6 +222,7 @@ impl TrajectoryWriter {
             writer: Some(writer),
             part_path,
             final_path: path.to_path_buf(),
+            copy_over,
             poses_channel,
             energy_channel,
             poses_sequence: 0,
@@ -330,7 +334,7 @@ impl TrajectoryWriter {
             inner.flush().map_err(|source| IoError::Io { path: self.part_path.display().to_string(), source })?;
         }
         let io = |source| IoError::Io { path: self.final_path.display().to_string(), source };
-        if crate::atomic::is_special_file(&self.final_path) {
+        if self.copy_over {
             let mut part = File::open(&self.part_path).map_err(io)?;
             let mut target = std::fs::OpenOptions::new().write(true).open(&self.final_path).map_err(io)?;
             std::io::copy(&mut part, &mut target).map_err(io)?;

@@ -38,11 +38,7 @@ impl World {
         let radii: Vec<Real> =
             self.bodies.iter().map(|b| b.bounding_radius + lambda + b.velocity().norm() * horizon).collect();
         // A sphere's rotation moves none of its surface: its gaps close only by translation.
-        let round: Vec<bool> = self
-            .bodies
-            .iter()
-            .map(|b| matches!(self.types[b.type_id.0 as usize].shape, ShapeDesc::Sphere { .. }))
-            .collect();
+        let round = |k: usize| matches!(self.types[self.bodies[k].type_id.0 as usize].shape, ShapeDesc::Sphere { .. });
         let spin = |k: usize| self.bodies[k].angular_velocity().norm() * self.bodies[k].bounding_radius;
         // Pairs that touch now or may within the substep keep physics.md's bound, which also
         // limits how far their contacts slip per substep (sliding and spin). Measured with 40
@@ -56,16 +52,17 @@ impl World {
             let (i, j) = (i as usize, j as usize);
             let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
             let c = bi.position - bj.position;
-            let gap = c.norm() - bi.bounding_radius - bj.bounding_radius;
+            let distance = c.norm();
+            let gap = distance - bi.bounding_radius - bj.bounding_radius;
             let v = bi.velocity() - bj.velocity();
             // At constant velocities the centre distance |c + v t| is convex in t, so the
             // bounding spheres close at most at its initial rate −v·ĉ (spin moves neither).
-            let closing = if normal && c.norm() > 0.0 { (-v.dot(&c) / c.norm()).max(0.0) } else { v.norm() };
+            let closing = if normal && distance > 0.0 { (-v.dot(&c) / distance).max(0.0) } else { v.norm() };
             if gap <= lambda {
                 p.pairs.push((i, j));
                 // Inside the bounding spheres a non-sphere's contact normal can point anywhere
                 // and its spin sweeps its surface: the whole bound counts.
-                let bound = if normal && round[i] && round[j] && gap > touching {
+                let bound = if normal && round(i) && round(j) && gap > touching {
                     closing
                 } else {
                     v.norm() + (spin(i) + spin(j))
@@ -80,7 +77,7 @@ impl World {
                 if gap <= lambda {
                     let speed = b.velocity().norm() + spin(k);
                     let v = if normal && gap > touching {
-                        wall_closing(&self.container, wall, b, round[k], dt_cap) + if round[k] { 0.0 } else { spin(k) }
+                        wall_closing(&self.container, wall, b, round(k), dt_cap) + if round(k) { 0.0 } else { spin(k) }
                     } else {
                         speed
                     };
