@@ -45,7 +45,7 @@ fn cube() -> RowSystem {
         .iter()
         .map(|&(px, py)| Row::new(0, None, &(Vec3::new(px, py, 0.0) - x), &Vec3::zeros(), &Vec3::z(), &masses))
         .collect();
-    RowSystem { rows, n_bodies: 1 }
+    RowSystem::new(rows, 1)
 }
 
 #[test]
@@ -111,7 +111,7 @@ fn random_system(rng: &mut ChaCha8Rng) -> (RowSystem, Vec<f64>) {
         let xb = b.map_or(p, |k| xs[k]);
         rows.push(Row::new(a, b, &(p - xs[a]), &(p - xb), &n, &masses));
     }
-    let sys = RowSystem { rows, n_bodies: nb };
+    let sys = RowSystem::new(rows, nb);
     let w: Vec<f64> = (0..6 * nb).map(|_| rng.random_range(-G..G)).collect();
     let b = sys.rows.iter().map(|r| r.dot(&w)).collect();
     (sys, b)

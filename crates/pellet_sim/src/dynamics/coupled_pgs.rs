@@ -126,7 +126,7 @@ mod tests {
         let masses = [BodyMass { inv_mass: 1.0, inv_inertia: Mat3::identity() }];
         let (n, t1, t2) = (Vec3::z(), Vec3::x(), Vec3::y());
         let z = Vec3::zeros();
-        let sys = RowSystem { rows: vec![Row::new(0, None, &z, &z, &n, &masses)], n_bodies: 1 };
+        let sys = RowSystem::new(vec![Row::new(0, None, &z, &z, &n, &masses)], 1);
         let fric = [FrictionEntry {
             contact: 0,
             kind: Friction::Static,
@@ -168,7 +168,7 @@ mod tests {
         let masses = vec![BodyMass { inv_mass: 1.0, inv_inertia: Mat3::identity() }; 2];
         let (n, z) = (Vec3::z(), Vec3::zeros());
         let rows = vec![Row::new(1, Some(0), &z, &z, &n, &masses), Row::new(0, None, &z, &z, &n, &masses)];
-        let sys = RowSystem { rows, n_bodies: 2 };
+        let sys = RowSystem::new(rows, 2);
         // Free normal accelerations: between the bodies 0, at the floor −g.
         let b0 = [0.0, -G];
         let problem = CoupledProblem { sys: &sys, b0: &b0, fric: &[], free_t: &[], dt: 1e-3 };

@@ -135,10 +135,7 @@ impl IslandProblem<'_> {
             (false, false) => (FRICTION_ROUNDS_ITERATIVE, FRICTION_TOL_FACTOR_ITERATIVE * tol),
         };
         // Normal accelerations caused by friction multipliers `gt`.
-        let fsys = RowSystem {
-            rows: fric.iter().flat_map(|x| [x.t1.clone(), x.t2.clone()]).collect(),
-            n_bodies: sys.n_bodies,
-        };
+        let fsys = RowSystem::new(fric.iter().flat_map(|x| [x.t1.clone(), x.t2.clone()]).collect(), sys.n_bodies);
         let coupled_rhs = |gt: &[(Real, Real)]| -> Vec<Real> {
             let gflat: Vec<Real> = gt.iter().flat_map(|&(a, b)| [a, b]).collect();
             let ufric = fsys.response(&gflat);

@@ -81,6 +81,6 @@ impl Island {
                 Row::new(self.local(c.a), c.b_body().map(|b| self.local(b)), &c.lever_a, &c.lever_b, &c.normal, masses)
             })
             .collect();
-        RowSystem { rows, n_bodies: self.bodies.len() }
+        RowSystem::new(rows, self.bodies.len())
     }
 }

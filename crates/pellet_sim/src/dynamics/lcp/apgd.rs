@@ -31,7 +31,6 @@ impl LcpSolver for Apgd {
         if n == 0 {
             return LcpReport { iterations: 0, residual: 0.0, min_a: 0.0, status: LcpStatus::Converged };
         }
-        let q = |x: &[Real], ax: &[Real]| 0.5 * dot(x, ax) + dot(b, x);
         let mut x: Vec<Real> = f.iter().map(|v| v.max(0.0)).collect();
         let diag: Vec<Real> = (0..n).map(|i| a.diag(i)).collect();
         let mut ax = vec![0.0; n];
@@ -57,13 +56,19 @@ impl LcpSolver for Apgd {
         let mut axn = vec![0.0; n];
         let mut g = vec![0.0; n];
         let mut it = 0;
+        // The vector work is fused into three passes per iteration (gradient with q(y); the
+        // projected step; q(xn) with the residual and the restart test) with every sum taken
+        // in index order as before, so the iterates are bit-identical to the unfused loops.
         while it < self.max_iterations {
             it += 1;
-            for ((gi, ayi), bi) in g.iter_mut().zip(&ay).zip(b) {
+            let (mut y_ay, mut b_y): (Real, Real) = (-0.0, -0.0);
+            for (((gi, &ayi), &bi), &yi) in g.iter_mut().zip(&ay).zip(b).zip(&y) {
                 *gi = ayi + bi;
+                y_ay += yi * ayi;
+                b_y += bi * yi;
             }
-            let qy = q(&y, &ay);
-            loop {
+            let qy = 0.5 * y_ay + b_y;
+            let (r, min_a, restart) = loop {
                 // Projected gradient step and the sufficient-decrease test, fused.
                 // (Iterators, not indices: with bounds checks the two sums lived on the stack
                 // and this loop was a tenth of a pack run.)
@@ -75,14 +80,24 @@ impl LcpSolver for Apgd {
                     dd += d * d;
                 }
                 a.mul(&xn, &mut axn);
-                if q(&xn, &axn) <= qy + gd + 0.5 * l * dd + 1e-14 * qy.abs() || l > 1e300 {
-                    break;
+                let (mut x_ax, mut b_x, mut g_dx): (Real, Real, Real) = (-0.0, -0.0, -0.0);
+                let (mut r, mut min_a): (Real, Real) = (0.0, 0.0);
+                for (i, (&xni, &axni)) in xn.iter().zip(&axn).enumerate() {
+                    x_ax += xni * axni;
+                    b_x += b[i] * xni;
+                    g_dx += g[i] * (xni - x[i]);
+                    let ai = axni + b[i];
+                    r = r.max((diag[i] * xni).min(ai).abs());
+                    min_a = min_a.min(ai);
+                }
+                let qx = 0.5 * x_ax + b_x;
+                if qx <= qy + gd + 0.5 * l * dd + 1e-14 * qy.abs() || l > 1e300 {
+                    break (r, min_a, g_dx > 0.0);
                 }
                 l *= 2.0;
-            }
+            };
             let theta_n = (-theta * theta + theta * (theta * theta + 4.0).sqrt()) / 2.0;
             let beta = theta * (1.0 - theta) / (theta * theta + theta_n);
-            let (r, min_a) = residual(&diag, b, &xn, &axn);
             if r < r_best {
                 best.copy_from_slice(&xn);
                 r_best = r;
@@ -91,22 +106,22 @@ impl LcpSolver for Apgd {
             if r_best <= tol {
                 break;
             }
-            let restart = g.iter().zip(xn.iter().zip(&x)).map(|(gi, (xni, xi))| gi * (xni - xi)).sum::<Real>() > 0.0;
             if restart {
                 y.copy_from_slice(&xn);
                 ay.copy_from_slice(&axn);
                 theta = 1.0;
             } else {
-                for (yi, (xni, xi)) in y.iter_mut().zip(xn.iter().zip(&x)) {
+                for (((yi, ayi), (&xni, &xi)), (&axni, &axi)) in
+                    y.iter_mut().zip(ay.iter_mut()).zip(xn.iter().zip(&x)).zip(axn.iter().zip(&ax))
+                {
                     *yi = xni + beta * (xni - xi);
-                }
-                for (ayi, (axni, axi)) in ay.iter_mut().zip(axn.iter().zip(&ax)) {
                     *ayi = axni + beta * (axni - axi);
                 }
                 theta = theta_n;
             }
-            x.copy_from_slice(&xn);
-            ax.copy_from_slice(&axn);
+            // x ← xn (xn is overwritten by the next step).
+            std::mem::swap(&mut x, &mut xn);
+            std::mem::swap(&mut ax, &mut axn);
             l *= 0.9;
         }
         f.copy_from_slice(&best);
