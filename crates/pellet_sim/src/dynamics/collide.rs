@@ -4,7 +4,7 @@
 
 use super::islands::build_islands;
 use super::lcp::solve_auto;
-use super::rows::{collision_matrix, relative_velocity};
+use super::rows::{collision_matrix, relative_velocity, relative_velocity_from};
 use crate::body::Body;
 use crate::geometry::contact::Contact;
 use crate::math::{Real, Vec3};
@@ -96,8 +96,11 @@ pub fn collision_phase(
 ) -> CollisionStats {
     let mut stats = CollisionStats::default();
     let apgd = params.iterative_solver == IterativeSolver::Apgd;
+    // Each body's velocity and angular velocity, refreshed for the bodies a pass changed.
+    let mut vel: Vec<Vec3> = bodies.iter().map(Body::velocity).collect();
+    let mut omega: Vec<Vec3> = bodies.iter().map(Body::angular_velocity).collect();
     loop {
-        let u: Vec<Vec3> = contacts.iter().map(|c| relative_velocity(c, bodies)).collect();
+        let u: Vec<Vec3> = contacts.iter().map(|c| relative_velocity_from(c, &vel, &omega)).collect();
         let vn: Vec<Real> = contacts.iter().zip(&u).map(|(c, u)| c.normal.dot(u)).collect();
         let colliding: Vec<usize> =
             (0..contacts.len()).filter(|&i| vn[i] < -params.eps_p && contacts[i].gap + vn[i] * dt <= delta_c).collect();
@@ -174,6 +177,10 @@ pub fn collision_phase(
                 }
                 apply(bodies, c, &j);
                 stats.friction_loss -= d_ke;
+            }
+            for &k in &island.bodies {
+                vel[k] = bodies[k].velocity();
+                omega[k] = bodies[k].angular_velocity();
             }
         }
         if final_solve {

@@ -177,6 +177,18 @@ pub fn relative_velocity(c: &Contact, bodies: &[Body]) -> Vec3 {
     }
 }
 
+/// [`relative_velocity`] from each body's velocity and angular velocity, computed beforehand
+/// (the same arithmetic, so the same bits): the collision phase's passes ask for every
+/// contact's velocity again after each pass, and ω = I⁻¹L per contact end was 10 % of a batch
+/// pour (perf).
+pub fn relative_velocity_from(c: &Contact, vel: &[Vec3], omega: &[Vec3]) -> Vec3 {
+    let va = vel[c.a] + omega[c.a].cross(&c.lever_a);
+    match c.b_body() {
+        Some(b) => va - vel[b] - omega[b].cross(&c.lever_b),
+        None => va,
+    }
+}
+
 /// The collision matrix K of a contact (physics.md §3.3).
 pub fn collision_matrix(c: &Contact, bodies: &[Body]) -> Mat3 {
     use crate::math::skew;
