@@ -229,7 +229,7 @@ pub fn resting_phase(
 /// on the new tangents, inside the disc of last substep's normal force. Only iteratively solved
 /// islands get it (`iterative`); the others start from zero.
 ///
-/// Why: the static-friction sweeps of one substep (5 per fixed-point round, ≤ 5 rounds) move
+/// Why: the static-friction sweeps of one substep (5 per fixed-point round, ≤ 10 rounds) move
 /// a correction about one contact per sweep, and a bed held up by wall friction is tens of
 /// contacts deep; from the last answer the substeps add up. Measured before the patch-normal
 /// fix (NOTES, 2026-11-24): 40 cylinders in a 40 mm tube settle at 4.35 s in 188 s of CPU
