@@ -16,17 +16,16 @@ const FRICTION_ROUNDS: usize = 30;
 const FRICTION_ROUNDS_ITERATIVE: usize = 10;
 /// Rounds an iteratively solved island with a sliding contact always gets; after them its fixed
 /// point stops as soon as the contraction of its last round, kept up for the rounds left, would
-/// not bring the change under the stop test. Islands whose contacts all stick keep the whole
-/// cap: there the fixed point can converge, and where it does not the bed creeps (the paper's
-/// 33.65 mm cylinder bed crept for 22 s when they too stopped early; with the cap it settles at
-/// 4.16 s, NOTES 2026-11-24 fourth session). In a pile the fixed point contracts at ≈ 0.9 per round from changes of
-/// 0.3–7 m/s² (1e3 tol_r): it ends unconverged whatever the cap, and its friction is carried
-/// to the next substep, which goes on from there. Measured (NOTES, 2026-11-24 fourth session):
-/// the default bed's porosity over seeds (40 spheres, D = 40 mm) was 0.4528, 0.4564, 0.4600 and
-/// 0.4533 (standard errors 0.002–0.004) with a fixed 3, 5, 10 and 20 rounds — no trend — and a
-/// one-column pour (D = 56 mm, 5 s) took 11.5, 13.8 and 19.8 s of CPU with 3, 5 and 10. But a
-/// fixed 5 left a bed at rest, whose fixed point does converge in 10, unconverged (the 100-sphere
-/// bench: 556 unconverged islands against 3).
+/// not bring the change under the stop test. In a pour the fixed point contracts at ≈ 0.9 per
+/// round from changes of 0.3–7 m/s² (1e3 tol_r) and ends unconverged whatever the cap; its
+/// friction is carried to the next substep, which goes on from there. Measured (NOTES,
+/// 2026-11-24 fourth session): the default bed's porosity over seeds (40 spheres, D = 40 mm) was
+/// 0.4528, 0.4564, 0.4600 and 0.4533 (standard errors 0.002–0.004) with a fixed 3, 5, 10 and 20
+/// rounds, no trend; a one-column pour (D = 56 mm, 5 s) took 11.5, 13.8 and 19.8 s of CPU with
+/// 3, 5 and 10. Islands whose contacts all stick keep the whole cap: there the fixed point can
+/// converge, and where it does not the bed creeps (a fixed 5 left the 100-sphere bench with 556
+/// unconverged islands against 3; stopping them early let the paper's 33.65 mm cylinder bed creep
+/// for 22 s, while with the cap it settles at 4.16 s).
 const FRICTION_MIN_ROUNDS_ITERATIVE: usize = 3;
 /// The friction fixed point stops when it changes b by less than this times the solver tolerance.
 const FRICTION_TOL_FACTOR: Real = 0.1;

@@ -122,13 +122,20 @@ impl RowSystem {
 
     /// Stacked body velocity change M⁻¹ Jᵀ f (6 per body).
     pub fn response(&self, f: &[Real]) -> Vec<Real> {
-        let mut u = vec![0.0; 6 * self.n_bodies];
+        let mut u = Vec::new();
+        self.response_into(f, &mut u);
+        u
+    }
+
+    /// [`Self::response`] into `u`, which is resized and overwritten.
+    fn response_into(&self, f: &[Real], u: &mut Vec<Real>) {
+        u.clear();
+        u.resize(6 * self.n_bodies, 0.0);
         for (row, &fi) in self.rows.iter().zip(f) {
             if fi != 0.0 {
-                row.add_response(fi, &mut u);
+                row.add_response(fi, u);
             }
         }
-        u
     }
 }
 
@@ -140,15 +147,8 @@ impl LcpMatrix for RowSystem {
         self.rows[i].diag
     }
     fn mul(&self, x: &[Real], y: &mut [Real]) {
-        // As `response`, into the kept buffer.
         let mut u = self.scratch.borrow_mut();
-        u.clear();
-        u.resize(6 * self.n_bodies, 0.0);
-        for (row, &xi) in self.rows.iter().zip(x) {
-            if xi != 0.0 {
-                row.add_response(xi, &mut u);
-            }
-        }
+        self.response_into(x, &mut u);
         for (yi, row) in y.iter_mut().zip(&self.rows) {
             *yi = row.dot(&u);
         }
