@@ -4,6 +4,14 @@
 # finished. Every file is a Make target, so a re-run skips finished beds and
 # `make -j2` runs two beds at once (each recipe writes only its own bed's files).
 #
+# A finished bed's record (summary, profile, settle report, stage times; the
+# poses too, except for validation beds, whose poses the report keeps in
+# $(DOCS)/beds) is copied into $(ARCHIVE), which is committed with the report.
+# The record is the bed's target and has no prerequisites, so a bed finished
+# once is not run again, in this checkout or any clone, and the report can be
+# regenerated without the trajectories in $(OUT). To run a bed again (a new
+# engine, say), delete its record: rm $(ARCHIVE)/<id>.* $(RUNS)/<id>.*
+#
 #   make -f pipelines/paper.mk validation|loading|cor|friction|all   the beds
 #   make -f pipelines/paper.mk report                                 docs from what exists
 #
@@ -13,16 +21,18 @@
 BIN ?= target/release
 OUT ?= out/paper
 DOCS ?= docs/validation
+ARCHIVE ?= $(DOCS)/runs
 TABLE ?= pipelines/paper/beds.csv
 REPEATS ?=
 NICE ?= nice
 # The helper scripts sit beside this file, wherever make is run from.
-HERE := $(patsubst %/,%,$(dir $(lastword $(MAKEFILE_LIST))))/paper
+THIS := $(lastword $(MAKEFILE_LIST))
+HERE := $(patsubst %/,%,$(dir $(THIS)))/paper
 RUNS := $(OUT)/runs
 CASES := $(OUT)/cases
 
 ids = $(shell awk -F, -v study=$(1) -v repeats=$(REPEATS) -f $(HERE)/ids.awk $(TABLE))
-done_of = $(patsubst %,$(RUNS)/%.summary.json,$(1))
+done_of = $(patsubst %,$(ARCHIVE)/%.summary.json,$(1))
 
 VALIDATION := $(call ids,validation)
 LOADING := $(call ids,loading)
@@ -44,9 +54,10 @@ friction: $(call done_of,$(FRICTION))
 pellets: $(PELLETS)
 
 report:
-	$(BIN)/paper-report --table $(TABLE) --runs $(RUNS) $(if $(REPEATS),--repeats $(REPEATS)) -o $(DOCS)
+	$(BIN)/paper-report --table $(TABLE) --runs $(ARCHIVE) $(if $(wildcard $(RUNS)),--runs $(RUNS)) \
+	  $(if $(REPEATS),--repeats $(REPEATS)) -o $(DOCS)
 
-$(OUT) $(RUNS) $(CASES):
+$(OUT) $(RUNS) $(CASES) $(ARCHIVE):
 	mkdir -p $@
 
 # The paper's pellets (Table 3): sphere 10 mm, cylinder 10 × 10 mm, ring 10/6 × 10 mm.
@@ -80,3 +91,13 @@ $(RUNS)/%.packing: $(RUNS)/%.mcap
 $(RUNS)/%.summary.json: $(RUNS)/%.packing
 	sh $(HERE)/timed.sh $(RUNS)/$*.voidprof.time $(NICE) $(BIN)/voidprof $< \
 	  --window $$(sed -n 's/^# voidprof-window: //p' $(CASES)/$*.toml) -o $(RUNS)/$*.profile.csv --summary $@
+
+# The record: the run's small files, the summary last (it marks the record
+# complete). No prerequisites: see the head of this file.
+RECORD := profile.csv settle.json pack.time settle.time voidprof.time
+$(ARCHIVE)/%.summary.json: | $(ARCHIVE)
+	+$(MAKE) --no-print-directory -f $(THIS) $(RUNS)/$*.summary.json
+	for f in $(RECORD) $(if $(filter $*,$(VALIDATION)),,poses.csv); do \
+	  if test -f $(RUNS)/$*.$$f; then cp $(RUNS)/$*.$$f $(ARCHIVE)/$*.$$f.tmp && mv $(ARCHIVE)/$*.$$f.tmp $(ARCHIVE)/$*.$$f; fi; \
+	done
+	cp $(RUNS)/$*.summary.json $@.tmp && mv $@.tmp $@

@@ -2,7 +2,10 @@
 //! (`pipelines/paper.mk`): `<id>.summary.json` and `<id>.profile.csv`
 //! (voidprof), `<id>.settle.json` and `<id>.poses.csv` (settle-check),
 //! `<id>.{pack,settle,voidprof}.time` ("seconds exit-code", timed.sh).
-//! A bed counts as finished when its summary exists.
+//! A bed counts as finished when its summary exists. Several directories
+//! are searched in order (the committed archive `docs/validation/runs`, then
+//! the work directory): the first that holds a bed's summary supplies its
+//! whole record, so files of two different runs are never mixed.
 
 use std::path::{Path, PathBuf};
 
@@ -32,6 +35,8 @@ pub struct BedResult {
     pub sim_time_s: Option<f64>,
     /// Wall time of pack + settle-check + voidprof (s), as far as recorded.
     pub seconds: f64,
+    /// Whether pack's time was recorded (records rebuilt from poses have none).
+    pub pack_timed: bool,
     /// The settled poses CSV.
     pub poses: Option<PathBuf>,
 }
@@ -54,8 +59,8 @@ impl Group {
     }
 }
 
-/// Reads every row's beds from `runs`.
-pub fn collect(rows: &[Row], runs: &Path, repeats: Option<u32>) -> Result<Vec<Group>> {
+/// Reads every row's beds from the first of `runs` that holds each.
+pub fn collect(rows: &[Row], runs: &[&Path], repeats: Option<u32>) -> Result<Vec<Group>> {
     let mut groups = Vec::new();
     for row in rows {
         let mut group = Group { row: row.clone(), beds: Vec::new(), missing: Vec::new() };
@@ -76,11 +81,12 @@ fn read_json(path: &Path) -> Result<Value> {
     serde_json::from_str(&text).with_context(|| format!("{}: not JSON", path.display()))
 }
 
-fn read_bed(runs: &Path, id: &str) -> Result<Option<BedResult>> {
-    let summary_path = runs.join(format!("{id}.summary.json"));
-    if !summary_path.exists() {
+fn read_bed(dirs: &[&Path], id: &str) -> Result<Option<BedResult>> {
+    let summary_name = format!("{id}.summary.json");
+    let Some(runs) = dirs.iter().find(|d| d.join(&summary_name).exists()) else {
         return Ok(None);
-    }
+    };
+    let summary_path = runs.join(&summary_name);
     let s = read_json(&summary_path)?;
     let num = |k: &str| -> Result<f64> {
         s[k].as_f64().with_context(|| format!("{}: no number {k:?}", summary_path.display()))
@@ -96,7 +102,11 @@ fn read_bed(runs: &Path, id: &str) -> Result<Option<BedResult>> {
     let settle = if settle_path.exists() { Some(read_json(&settle_path)?) } else { None };
     let seconds =
         ["pack", "settle", "voidprof"].iter().map(|stage| read_seconds(&runs.join(format!("{id}.{stage}.time")))).sum();
-    let poses = runs.join(format!("{id}.poses.csv"));
+    // The archive keeps no poses of validation beds (the report's beds/
+    // holds them), so after the record's own directory look in the others.
+    let pack_timed = runs.join(format!("{id}.pack.time")).exists();
+    let poses_name = format!("{id}.poses.csv");
+    let poses = std::iter::once(runs).chain(dirs).map(|d| d.join(&poses_name)).find(|p| p.exists());
     Ok(Some(BedResult {
         id: id.to_string(),
         bulk_porosity: num("bulk_porosity")?,
@@ -107,7 +117,8 @@ fn read_bed(runs: &Path, id: &str) -> Result<Option<BedResult>> {
         settled: settle.as_ref().and_then(|v| v["settled"].as_bool()),
         sim_time_s: settle.as_ref().and_then(|v| v["frame_time_s"].as_f64()),
         seconds,
-        poses: poses.exists().then_some(poses),
+        pack_timed,
+        poses,
     }))
 }
 

@@ -25,12 +25,15 @@ pub mod table;
 
 const EXAMPLES: &str = "\
 Examples:
-  paper-report --table pipelines/paper/beds.csv --runs out/paper/runs -o docs/validation
+  paper-report --table pipelines/paper/beds.csv --runs docs/validation/runs --runs out/paper/runs -o docs/validation
   paper-report --table pipelines/paper/beds.csv --runs out/paper/runs --repeats 1 -o /tmp/v
 
 Writes to the -o directory: README.md (the page), summary.json, PNG figures and
-beds/<id>.csv (settled poses of each finished validation bed, mm). Beds of the
-table without a <id>.summary.json in --runs are listed as missing.
+beds/<id>.csv (settled poses of each finished validation bed, mm). A bed's
+record comes from the first --runs directory that holds its <id>.summary.json;
+its poses from the first that holds <id>.poses.csv (where none does, an
+existing beds/<id>.csv is left as it is). Beds of the table without a summary
+in any --runs directory are listed as missing.
 Exit codes: 0 success, 2 error.";
 
 /// Write the validation report of the paper's study (issue 8) from the
@@ -41,9 +44,10 @@ pub struct Args {
     /// The bed table (CSV: config, study, shape, tube_diameter_mm (mm), seeds, scheme, cor, friction, …).
     #[arg(long, value_name = "CSV")]
     pub table: String,
-    /// Directory of the beds' files (ID.summary.json, ID.profile.csv, ID.settle.json, ID.poses.csv, ID.*.time).
-    #[arg(long, value_name = "DIR")]
-    pub runs: String,
+    /// Directory of the beds' files (ID.summary.json, ID.profile.csv, ID.settle.json, ID.poses.csv, ID.*.time);
+    /// repeat to search several, in order (the committed archive, then the work directory).
+    #[arg(long, value_name = "DIR", required = true)]
+    pub runs: Vec<String>,
     /// Count only seeds 1..K of every row (as `make paper REPEATS=K`) [default: every seed of the table].
     #[arg(long, value_name = "K")]
     pub repeats: Option<u32>,
@@ -60,11 +64,11 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let text = String::from_utf8(pellet_io::read_input(&args.table)?)
         .with_context(|| format!("{}: not UTF-8 text", args.table))?;
     let rows = table::parse(&text, &args.table)?;
-    let runs = Path::new(&args.runs);
-    if !runs.is_dir() {
-        bail!("--runs {}: not a directory (run `make paper-validation` first)", args.runs);
+    let runs: Vec<&Path> = args.runs.iter().map(Path::new).collect();
+    if let Some(missing) = runs.iter().find(|r| !r.is_dir()) {
+        bail!("--runs {}: not a directory (run `make paper-validation` first)", missing.display());
     }
-    let groups = collect::collect(&rows, runs, args.repeats)?;
+    let groups = collect::collect(&rows, &runs, args.repeats)?;
     let out = Path::new(&args.output);
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
 

@@ -101,6 +101,16 @@ impl Page<'_> {
             self.compute_seconds,
             self.compute_seconds / 3600.0
         );
+        let untimed: Vec<&str> =
+            self.groups.iter().flat_map(|g| g.beds.iter()).filter(|b| !b.pack_timed).map(|b| b.id.as_str()).collect();
+        if !untimed.is_empty() {
+            let _ = writeln!(
+                o,
+                "- Beds whose run times were not kept ({}), left out of the compute time: their records were rebuilt from the settled poses with `voidprof --poses` (see `runs/README.md`): {}.",
+                untimed.len(),
+                untimed.join(", ")
+            );
+        }
         let _ = writeln!(o, "- Machine: {}.", self.machine);
         let _ = writeln!(o, "- Engine defaults for every bed (no per-bed tuning): `pack`'s defaults unless the table row sets COR, friction or disturbances; contact model `recommended` (the paper's model does not let a poured bed settle; see the project README).\n");
     }
