@@ -70,12 +70,11 @@ pub fn project_positions(
             if disp > max_step {
                 dmu *= max_step / disp;
             }
-            let mut delta = vec![0.0; if b.is_some() { 12 } else { 6 }];
+            // Local indices 0 (A) and 1 (B): the row writes delta[0..6] and, with B, [6..12].
+            let mut delta = [0.0; 12];
             row.add_response(dmu, &mut delta);
             st.corrections += 1;
-            let mut ids = vec![c.a];
-            ids.extend(b);
-            for (slot, &k) in ids.iter().enumerate() {
+            for (slot, k) in [Some(c.a), b].into_iter().enumerate().filter_map(|(s, k)| Some((s, k?))) {
                 let dx = Vec3::new(delta[6 * slot], delta[6 * slot + 1], delta[6 * slot + 2]);
                 let dth = Vec3::new(delta[6 * slot + 3], delta[6 * slot + 4], delta[6 * slot + 5]);
                 let body = &mut bodies[k];

@@ -10,6 +10,8 @@ const MAX_CELLS_PER_BODY: i64 = 64;
 #[derive(Debug, Default, Clone)]
 pub struct BroadPhase {
     entries: Vec<(u64, u32)>,
+    /// Each body's lowest cell (unused for oversized bodies).
+    lo_cell: Vec<[i64; 3]>,
     oversized: Vec<u32>,
     pairs: Vec<(u32, u32)>,
 }
@@ -25,6 +27,8 @@ impl BroadPhase {
     /// Pairs (i < j) whose spheres (centre `centres[i]`, radius `radii[i]`) overlap, sorted.
     pub fn overlapping_pairs(&mut self, centres: &[Vec3], radii: &[Real]) -> &[(u32, u32)] {
         self.entries.clear();
+        self.lo_cell.clear();
+        self.lo_cell.resize(centres.len(), [0; 3]);
         self.oversized.clear();
         self.pairs.clear();
         let n = centres.len();
@@ -49,6 +53,7 @@ impl BroadPhase {
             }
             let (x0, y0, z0) = (lo.x as i64, lo.y as i64, lo.z as i64);
             let (x1, y1, z1) = (hi.x as i64, hi.y as i64, hi.z as i64);
+            self.lo_cell[i] = [x0, y0, z0];
             for ix in x0..=x1 {
                 for iy in y0..=y1 {
                     for iz in z0..=z1 {
@@ -65,10 +70,17 @@ impl BroadPhase {
             while end < self.entries.len() && self.entries[end].0 == key {
                 end += 1;
             }
+            // Two bodies share every cell of the intersection of their cell ranges; the pair is
+            // taken only in its lowest one (the larger of the two lowest cells on each axis), so
+            // it is found once, not in up to 8 cells and then sorted out again.
             for p in start..end {
                 for q in p + 1..end {
                     let (i, j) = (self.entries[p].1, self.entries[q].1);
-                    self.pairs.push((i.min(j), i.max(j)));
+                    let (li, lj) = (self.lo_cell[i as usize], self.lo_cell[j as usize]);
+                    let lowest = cell_key(li[0].max(lj[0]), li[1].max(lj[1]), li[2].max(lj[2]));
+                    if lowest == key {
+                        self.pairs.push((i.min(j), i.max(j)));
+                    }
                 }
             }
             start = end;
@@ -81,6 +93,7 @@ impl BroadPhase {
             }
         }
         self.pairs.sort_unstable();
+        // Two oversized bodies list their pair twice.
         self.pairs.dedup();
         self.pairs.retain(|&(i, j)| {
             let (i, j) = (i as usize, j as usize);

@@ -33,15 +33,24 @@ pub struct Pellet<'a> {
 
 /// Appends the contacts between pellets `a` and `b` with gap ≤ `max_gap` to `out`.
 pub fn collide_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<Contact>) -> Result<(), SimError> {
-    match (a.shape, b.shape) {
-        (ShapeDesc::Sphere { radius: ra }, ShapeDesc::Sphere { radius: rb }) => {
-            out.extend(sphere_sphere(a.index, &a.body.position, *ra, b.index, &b.body.position, *rb, max_gap));
-        }
-        (ShapeDesc::Sphere { radius }, _) => out.extend(sphere_shape(a, *radius, b, true, max_gap)),
-        (_, ShapeDesc::Sphere { radius }) => out.extend(sphere_shape(b, *radius, a, false, max_gap)),
-        _ => sampled_pair(a, b, max_gap, out),
+    match sphere_pair(a, b, max_gap) {
+        Some(one) => out.extend(one),
+        None => sampled_pair(a, b, max_gap, out),
     }
     Ok(())
+}
+
+/// The one contact of a pair with a sphere in it (`Some(None)`: farther apart than `max_gap`);
+/// `None` if neither pellet is a sphere.
+fn sphere_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real) -> Option<Option<Contact>> {
+    Some(match (a.shape, b.shape) {
+        (ShapeDesc::Sphere { radius: ra }, ShapeDesc::Sphere { radius: rb }) => {
+            sphere_sphere(a.index, &a.body.position, *ra, b.index, &b.body.position, *rb, max_gap)
+        }
+        (ShapeDesc::Sphere { radius }, _) => sphere_shape(a, *radius, b, true, max_gap),
+        (_, ShapeDesc::Sphere { radius }) => sphere_shape(b, *radius, a, false, max_gap),
+        _ => return None,
+    })
 }
 
 /// Appends the contacts of pellet `a` with wall `wall` (gap ≤ `max_gap`) to `out`.
@@ -70,13 +79,9 @@ pub fn collide_feature(
     key: &ContactKey,
 ) -> Option<Contact> {
     match (key.b, b) {
-        (Counterpart::Body(_), Some(b)) => match (a.shape, b.shape) {
-            (ShapeDesc::Sphere { .. }, _) | (_, ShapeDesc::Sphere { .. }) => {
-                let mut out = Vec::with_capacity(1);
-                collide_pair(a, b, Real::INFINITY, &mut out).ok()?;
-                out.pop()
-            }
-            _ => sampled_feature(a, b, key.feature),
+        (Counterpart::Body(_), Some(b)) => match sphere_pair(a, b, Real::INFINITY) {
+            Some(one) => one,
+            None => sampled_feature(a, b, key.feature),
         },
         (Counterpart::Wall(w), _) => match a.shape {
             ShapeDesc::Sphere { radius } => {
