@@ -40,10 +40,13 @@ pub fn project_positions(
     gravity: &Vec3,
 ) -> ProjectionStats {
     let mut st = ProjectionStats::default();
-    let pen = |bodies: &[Body]| {
-        contacts.iter().filter_map(|c| eval(bodies, c)).map(|c| (-c.gap).max(0.0)).fold(0.0, Real::max)
-    };
-    st.max_penetration_before = pen(bodies);
+    // A contact's gap is a function of its two bodies' poses only, so it is evaluated again
+    // only after one of them moved: a sweep late in a deep pile moves few bodies, and
+    // re-running the narrow phase for every contact on every sweep was 13 % of a 690-sphere
+    // pour (perf).
+    let mut moves = vec![0u32; bodies.len()];
+    let mut cache = GapCache { eval, contacts, gaps: vec![None; contacts.len()] };
+    st.max_penetration_before = cache.max_penetration(bodies, &moves);
     if st.max_penetration_before <= slop {
         st.max_penetration_after = st.max_penetration_before;
         return st;
@@ -54,11 +57,12 @@ pub fn project_positions(
     order.sort_by(|&i, &j| contacts[i].point.z.total_cmp(&contacts[j].point.z).then(i.cmp(&j)));
     for _ in 0..SWEEPS {
         let mut any = false;
-        for c0 in order.iter().map(|&i| &contacts[i]) {
-            let Some(c) = eval(bodies, c0) else { continue };
-            if c.gap >= -slop {
-                continue;
+        for &i in &order {
+            match cache.gap(bodies, &moves, i) {
+                Some(gap) if gap < -slop => {}
+                _ => continue,
             }
+            let Some(c) = eval(bodies, &contacts[i]) else { continue };
             any = true;
             let b = c.b_body();
             let masses =
@@ -77,6 +81,7 @@ pub fn project_positions(
             for (slot, k) in [Some(c.a), b].into_iter().enumerate().filter_map(|(s, k)| Some((s, k?))) {
                 let dx = Vec3::new(delta[6 * slot], delta[6 * slot + 1], delta[6 * slot + 2]);
                 let dth = Vec3::new(delta[6 * slot + 3], delta[6 * slot + 4], delta[6 * slot + 5]);
+                moves[k] += 1;
                 let body = &mut bodies[k];
                 body.position += dx;
                 st.potential_change -= body.mass * gravity.dot(&dx);
@@ -90,6 +95,37 @@ pub fn project_positions(
             break;
         }
     }
-    st.max_penetration_after = pen(bodies);
+    st.max_penetration_after = cache.max_penetration(bodies, &moves);
     st
+}
+
+/// Contact gaps at the current poses, each evaluated again only when one of its bodies has
+/// moved since (`moves[k]` counts body k's corrections; a gap remembers the counts it was
+/// evaluated at, and `None` in it means the feature no longer exists).
+struct GapCache<'a, 'e> {
+    eval: &'a ContactEval<'e>,
+    contacts: &'a [Contact],
+    gaps: Vec<Option<((u32, u32), Option<Real>)>>,
+}
+
+impl GapCache<'_, '_> {
+    fn gap(&mut self, bodies: &[Body], moves: &[u32], i: usize) -> Option<Real> {
+        let c = &self.contacts[i];
+        let stamp = (moves[c.a], c.b_body().map_or(0, |b| moves[b]));
+        match self.gaps[i] {
+            Some((at, gap)) if at == stamp => gap,
+            _ => {
+                let gap = (self.eval)(bodies, c).map(|c| c.gap);
+                self.gaps[i] = Some((stamp, gap));
+                gap
+            }
+        }
+    }
+
+    fn max_penetration(&mut self, bodies: &[Body], moves: &[u32]) -> Real {
+        (0..self.contacts.len())
+            .filter_map(|i| self.gap(bodies, moves, i))
+            .map(|gap| (-gap).max(0.0))
+            .fold(0.0, Real::max)
+    }
 }
