@@ -105,8 +105,11 @@ pub fn project_positions(
 struct GapCache<'a, 'e> {
     eval: &'a ContactEval<'e>,
     contacts: &'a [Contact],
-    gaps: Vec<Option<((u32, u32), Option<Real>)>>,
+    gaps: Vec<Option<CachedGap>>,
 }
+
+/// A gap and the correction counts of its two bodies when it was evaluated.
+type CachedGap = ((u32, u32), Option<Real>);
 
 impl GapCache<'_, '_> {
     fn gap(&mut self, bodies: &[Body], moves: &[u32], i: usize) -> Option<Real> {
