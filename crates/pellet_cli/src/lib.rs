@@ -48,9 +48,22 @@ pub fn main<A: Parser>(tool: &str, run: impl FnOnce(A) -> anyhow::Result<Outcome
     }
 }
 
-/// The error and its causes on one line.
+/// The error and its causes on one line, `outer: cause: cause`. A cause whose text the message
+/// before it already ends with is left out: errors that show their source in their own message
+/// (`path: reason`, with the reason also as the source) printed it twice.
 pub fn one_line(e: &anyhow::Error) -> String {
-    format!("{e:#}").replace('\n', " ")
+    let mut line = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string().replace('\n', " ");
+        if line.ends_with(&text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(&text);
+    }
+    line
 }
 
 fn is_broken_pipe(e: &anyhow::Error) -> bool {
@@ -81,5 +94,39 @@ pub fn parse_window(text: &str) -> anyhow::Result<(f64, f64)> {
         (Some(z0), Some(z1)) if z1 > z0 => Ok((z0 * 1e-3, z1 * 1e-3)),
         (Some(_), Some(_)) => anyhow::bail!("--window z0,z1 needs z1 > z0 (got {text:?})"),
         _ => anyhow::bail!("--window must be two finite numbers z0,z1 in mm (got {text:?})"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::one_line;
+
+    /// An error that shows its source in its own message, as `path: reason` does.
+    #[derive(Debug)]
+    struct WithPath(std::io::Error);
+
+    impl std::fmt::Display for WithPath {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            write!(f, "bed.pellet: {}", self.0)
+        }
+    }
+
+    impl std::error::Error for WithPath {
+        fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+            Some(&self.0)
+        }
+    }
+
+    #[test]
+    fn a_cause_already_in_the_message_is_not_repeated() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory");
+        let e = anyhow::Error::new(WithPath(io)).context("reading the pellet");
+        assert_eq!(one_line(&e), "reading the pellet: bed.pellet: No such file or directory");
+    }
+
+    #[test]
+    fn causes_are_joined_on_one_line() {
+        let e = anyhow::anyhow!("line one\nline two").context("outer");
+        assert_eq!(one_line(&e), "outer: line one line two");
     }
 }
