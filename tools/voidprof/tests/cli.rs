@@ -253,6 +253,9 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
         assert_error(&out, needle);
     }
     assert!(!dir.path().join("p.csv").exists() && !dir.path().join("s.json").exists());
+    // The reason is said once (it was printed twice: the message and its source).
+    let missing = String::from_utf8_lossy(&voidprof(dir.path(), &["missing.packing"], None).stderr).to_string();
+    assert_eq!(missing.matches("No such file").count(), 1, "{missing}");
     // Usage errors (clap) exit 2 too; --help exits 0 and shows examples.
     assert_eq!(voidprof(dir.path(), &["--no-such-flag"], None).status.code(), Some(2));
     let help = voidprof(dir.path(), &["--help"], None);
