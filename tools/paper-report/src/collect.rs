@@ -102,9 +102,9 @@ fn read_bed(dirs: &[&Path], id: &str) -> Result<Option<BedResult>> {
     let settle = if settle_path.exists() { Some(read_json(&settle_path)?) } else { None };
     let seconds =
         ["pack", "settle", "voidprof"].iter().map(|stage| read_seconds(&runs.join(format!("{id}.{stage}.time")))).sum();
+    let pack_timed = runs.join(format!("{id}.pack.time")).exists();
     // The archive keeps no poses of validation beds (the report's beds/
     // holds them), so after the record's own directory look in the others.
-    let pack_timed = runs.join(format!("{id}.pack.time")).exists();
     let poses_name = format!("{id}.poses.csv");
     let poses = std::iter::once(runs).chain(dirs).map(|d| d.join(&poses_name)).find(|p| p.exists());
     Ok(Some(BedResult {

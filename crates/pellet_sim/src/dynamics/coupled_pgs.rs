@@ -10,7 +10,7 @@
 //! the cost is bounded by the sweep cap. `island_solve` uses it only on islands whose
 //! frictional contacts are all static, so dynamic (sliding) entries are left as given.
 
-use super::friction_update::{static_step, Friction, FrictionEntry};
+use super::friction_update::{add_friction_response, static_step, Friction, FrictionEntry};
 use super::lcp::{LcpReport, LcpStatus};
 use super::rows::RowSystem;
 use crate::math::Real;
@@ -50,10 +50,7 @@ impl CoupledProblem<'_> {
         }
         f.iter_mut().for_each(|fi| *fi = fi.max(0.0));
         let mut acc = sys.response(f);
-        for (x, g) in fric.iter().zip(gt.iter()) {
-            x.t1.add_response(g.0, &mut acc);
-            x.t2.add_response(g.1, &mut acc);
-        }
+        add_friction_response(fric, gt, &mut acc);
         let (mut sweeps, mut worst, mut min_a) = (0, Real::INFINITY, 0.0);
         // The best measured iterate: (measure, min_a, f, gt). Sweep k measures the iterate it
         // starts from, so that iterate is saved before the sweep.

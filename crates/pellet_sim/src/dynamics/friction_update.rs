@@ -87,10 +87,7 @@ pub fn update_static(
         return;
     }
     let mut acc = sys.response(f);
-    for (x, g) in fric.iter().zip(gt.iter()) {
-        x.t1.add_response(g.0, &mut acc);
-        x.t2.add_response(g.1, &mut acc);
-    }
+    add_friction_response(fric, gt, &mut acc);
     for _ in 0..STATIC_SWEEPS {
         for ((x, g), ft) in fric.iter().zip(gt.iter_mut()).zip(free_t) {
             if x.kind != Friction::Static {
@@ -100,6 +97,20 @@ pub fn update_static(
             x.t1.add_response(n1 - g.0, &mut acc);
             x.t2.add_response(n2 - g.1, &mut acc);
             *g = (n1, n2);
+        }
+    }
+}
+
+/// acc += M⁻¹ Jₜᵀ g: the stacked body velocity changes of friction multipliers `gt` (along t1,
+/// t2 of each entry of `fric`), entry by entry. Zero multipliers are skipped (a dynamic entry's
+/// t2 always is); adding their zero products would leave `acc` bit for bit the same.
+pub fn add_friction_response(fric: &[FrictionEntry], gt: &[(Real, Real)], acc: &mut [Real]) {
+    for (x, &(g1, g2)) in fric.iter().zip(gt) {
+        if g1 != 0.0 {
+            x.t1.add_response(g1, acc);
+        }
+        if g2 != 0.0 {
+            x.t2.add_response(g2, acc);
         }
     }
 }

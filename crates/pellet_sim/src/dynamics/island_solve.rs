@@ -4,12 +4,11 @@
 
 use super::coupled_pgs::CoupledProblem;
 use super::friction_guard::{drop_energy_gaining, FrictionRow};
-use super::friction_update::{update_dynamic, update_static, Friction, FrictionEntry};
+use super::friction_update::{add_friction_response, update_dynamic, update_static, Friction, FrictionEntry};
 use super::lcp::{solve_auto, DenseLcp, LcpMatrix, LcpReport, LcpStatus};
 use super::rows::RowSystem;
 use crate::math::Real;
 use crate::params::{EngineParams, IterativeSolver};
-use std::cell::RefCell;
 
 /// Fixed-point rounds between normal forces and friction.
 const FRICTION_ROUNDS: usize = 30;
@@ -148,23 +147,11 @@ impl IslandProblem<'_> {
             (false, true) => (FRICTION_ROUNDS, FRICTION_TOL_FACTOR * tol),
             (false, false) => (FRICTION_ROUNDS_ITERATIVE, FRICTION_TOL_FACTOR_ITERATIVE * tol),
         };
-        // Normal accelerations caused by friction multipliers `gt`: b0 + J M⁻¹ Jₜᵀ g, the
-        // response accumulated over the rows t1, t2 of each entry in turn (as a RowSystem of
-        // them would, without copying ~200 bytes per row per solve: a 690-sphere bed at rest
-        // spent 12 % of its time in page faults of such temporaries).
-        let ufric = RefCell::new(Vec::new());
+        // Normal accelerations caused by friction multipliers `gt`: b0 + J M⁻¹ Jₜᵀ g (from the
+        // entries' own rows: a RowSystem of them copied ~200 bytes per row per solve).
         let coupled_rhs = |gt: &[(Real, Real)]| -> Vec<Real> {
-            let mut u = ufric.borrow_mut();
-            u.clear();
-            u.resize(6 * sys.n_bodies, 0.0);
-            for (x, &(g1, g2)) in fric.iter().zip(gt) {
-                if g1 != 0.0 {
-                    x.t1.add_response(g1, &mut u);
-                }
-                if g2 != 0.0 {
-                    x.t2.add_response(g2, &mut u);
-                }
-            }
+            let mut u = vec![0.0; 6 * sys.n_bodies];
+            add_friction_response(fric, gt, &mut u);
             self.b0.iter().zip(&sys.rows).map(|(b, r)| b + r.dot(&u)).collect()
         };
         let update = |f: &[Real], gt: &mut [(Real, Real)], clamped: &mut [Option<bool>]| {
