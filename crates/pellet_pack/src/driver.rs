@@ -233,6 +233,7 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
         Amount::FillHeight(_) => None,
     };
     let mass = config.density_kg_m3 * pellet.properties.volume;
+    let spheres = matches!(pellet.closed_form, Some(pellet_geom::sdf::ClosedForm::Sphere { .. }));
     let mut pipeline = Pipeline::new();
     let mut history: Vec<EnergySample> = Vec::new();
     let mut feeding = true;
@@ -249,7 +250,7 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
     let mut next_frame = 0.0;
     let mut max_penetration: f64 = 0.0;
     let mut substeps = 0u64;
-    let mut settle = check_settled(&[], &criteria(config, 0, mass, dp));
+    let mut settle = check_settled(&[], &criteria(config, 0, mass, dp, spheres));
     // Since when each pellet has been slower than RESTING_SPEED.
     let mut slow_since: Vec<Option<f64>> = Vec::new();
     let ending = loop {
@@ -323,7 +324,7 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
         if !feeding {
             // Only the recent past matters to the test: keep its cost flat.
             let from = history.partition_point(|s| s.time_s < record.time_s - 2.0 * config.settle_window_s);
-            settle = check_settled(&history[from..], &criteria(config, record.pellets, mass, dp));
+            settle = check_settled(&history[from..], &criteria(config, record.pellets, mass, dp, spheres));
             if settle.settled {
                 break Ending::Settled;
             }
@@ -346,11 +347,12 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
     })
 }
 
-fn criteria(config: &PackConfig, pellets: u32, mass: f64, dp: f64) -> SettleCriteria {
+fn criteria(config: &PackConfig, pellets: u32, mass: f64, dp: f64, spheres: bool) -> SettleCriteria {
     let mut c = SettleCriteria::recommended(pellets, mass, dp);
     c.window_s = config.settle_window_s;
     c.relative_tolerance = config.settle_tolerance;
     c.max_speed_m_s = config.max_speed_m_s;
+    c.spheres = spheres;
     c
 }
 

@@ -55,7 +55,8 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
             solver_tolerance_factor: env("PELLET_BENCH_TOL", 1e-4),
             iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
                 Ok("pgs") => IterativeSolver::Pgs,
-                _ => IterativeSolver::Apgd,
+                Ok("apgd") => IterativeSolver::Apgd,
+                _ => IterativeSolver::Mprgp,
             },
             ..match std::env::var("PELLET_BENCH_MODE").as_deref() {
                 Ok("recommended") => EngineParams::recommended(),

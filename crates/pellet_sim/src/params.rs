@@ -21,6 +21,8 @@ pub enum IterativeSolver {
     Apgd,
     /// Projected Gauss–Seidel only.
     Pgs,
+    /// MPRGP (conjugate gradients with proportioning and projections), PGS as fallback.
+    Mprgp,
 }
 
 /// The approach-speed bound v_max of the substep rule δt = 0.2λ/v_max (physics.md §5.5).
@@ -88,7 +90,7 @@ pub struct EngineParams {
     pub coupled_friction_sweeps: usize,
     /// Residual tolerance of the iterative solvers as a factor of |g| (or of 9.81 if g = 0).
     pub solver_tolerance_factor: Real,
-    /// Iteration cap of APGD.
+    /// Iteration cap of APGD and of MPRGP.
     pub apgd_max_iterations: usize,
     /// Iteration cap of PGS.
     pub pgs_max_iterations: usize,
@@ -125,7 +127,7 @@ impl Default for EngineParams {
             collision_pass_cap: 50,
             exact_solver_max_rows: 64,
             exact_fallback_max_rows: 0,
-            iterative_solver: IterativeSolver::Apgd,
+            iterative_solver: IterativeSolver::Mprgp,
             coupled_friction_sweeps: 1000,
             solver_tolerance_factor: 1e-4,
             apgd_max_iterations: 200,

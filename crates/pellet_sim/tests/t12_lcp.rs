@@ -1,8 +1,9 @@
-//! T12: LCP unit tests (physics.md §7), Baraff vs APGD vs PGS.
+//! T12: LCP unit tests (physics.md §7), Baraff vs APGD vs MPRGP vs PGS.
 
 use nalgebra::DMatrix;
 use pellet_sim::dynamics::lcp::apgd::Apgd;
 use pellet_sim::dynamics::lcp::baraff::Baraff;
+use pellet_sim::dynamics::lcp::mprgp::Mprgp;
 use pellet_sim::dynamics::lcp::pgs::Pgs;
 use pellet_sim::dynamics::lcp::{DenseLcp, LcpMatrix, LcpSolver, LcpStatus};
 use pellet_sim::dynamics::rows::{BodyMass, Row, RowSystem};
@@ -17,6 +18,7 @@ fn solvers() -> Vec<(&'static str, Box<dyn LcpSolver>)> {
     vec![
         ("baraff", Box::new(Baraff::default())),
         ("apgd", Box::new(Apgd { max_iterations: 2000 })),
+        ("mprgp", Box::new(Mprgp { max_iterations: 2000 })),
         ("pgs", Box::new(Pgs { max_iterations: 20000, sor: 1.0 })),
     ]
 }
@@ -80,6 +82,10 @@ fn t12_3_inconsistent_redundant_pair_is_infeasible() {
     // The iterative solvers stop at their cap and say so.
     let rep = Pgs { max_iterations: 100, sor: 1.0 }.solve(&a, &[-1.0, -1.0], &mut [0.0; 2], 1e-9);
     assert_eq!(rep.status, LcpStatus::MaxIterations);
+    // MPRGP stops at the direction of zero curvature along which the objective falls forever.
+    let rep = Mprgp { max_iterations: 100 }.solve(&a, &[-1.0, -1.0], &mut [0.0; 2], 1e-9);
+    assert_eq!(rep.status, LcpStatus::MaxIterations);
+    assert!(rep.iterations < 100, "{rep:?}");
 }
 
 /// Random bodies and contacts with b = J w (consistent), w random body accelerations.

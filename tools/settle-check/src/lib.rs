@@ -26,9 +26,10 @@ Exit codes: 0 settled, 1 not settled, 2 error.";
 ///
 /// The bed is settled at the first time t where, over the window [t − w, t],
 /// no pellet was added, the kinetic energy varied by at most the tolerance
-/// (relative), the translational kinetic energy is below a bound and no pellet moves faster
-/// than a speed bound. A truncated trajectory (a killed run) is read up to its
-/// last complete chunk.
+/// (relative; in a bed of spheres the translational kinetic energy, since a
+/// sphere's spin moves none of its surface), the translational kinetic energy
+/// is below a bound and no pellet moves faster than a speed bound. A truncated
+/// trajectory (a killed run) is read up to its last complete chunk.
 #[derive(Debug, Parser)]
 #[command(name = "settle-check", version, after_help = EXAMPLES, allow_negative_numbers = true)]
 pub struct Args {
@@ -176,6 +177,7 @@ fn criteria(args: &Args, t: &Trajectory, types: &[pellet_geom::Pellet]) -> anyho
     c.window_s = args.settle_window;
     c.relative_tolerance = args.settle_tolerance;
     c.max_speed_m_s = args.max_speed;
+    c.spheres = types.iter().all(|p| matches!(p.closed_form, Some(pellet_geom::sdf::ClosedForm::Sphere { .. })));
     if let Some(b) = args.ke_bound {
         c.ke_bound_j = b;
     }

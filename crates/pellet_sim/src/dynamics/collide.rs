@@ -8,7 +8,7 @@ use super::rows::{collision_matrix, relative_velocity, relative_velocity_from};
 use crate::body::Body;
 use crate::geometry::contact::Contact;
 use crate::math::{Real, Vec3};
-use crate::params::{EngineParams, FrictionClamp, IterativeSolver};
+use crate::params::{EngineParams, FrictionClamp};
 
 /// What the collision phase did in one substep.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -95,7 +95,6 @@ pub fn collision_phase(
     delta_c: Real,
 ) -> CollisionStats {
     let mut stats = CollisionStats::default();
-    let apgd = params.iterative_solver == IterativeSolver::Apgd;
     // Each body's velocity and angular velocity, refreshed for the bodies a pass changed.
     let mut vel: Vec<Vec3> = bodies.iter().map(Body::velocity).collect();
     let mut omega: Vec<Vec3> = bodies.iter().map(Body::angular_velocity).collect();
@@ -141,7 +140,7 @@ pub fn collision_phase(
                 vtol,
                 1e3 * vtol,
                 params.exact_solver_max_rows,
-                apgd,
+                params.iterative_solver,
                 10 * params.apgd_max_iterations,
                 10 * params.pgs_max_iterations,
             );

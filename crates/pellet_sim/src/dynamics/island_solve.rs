@@ -8,7 +8,7 @@ use super::friction_update::{add_friction_response, update_dynamic, update_stati
 use super::lcp::{solve_auto, DenseLcp, LcpMatrix, LcpReport, LcpStatus};
 use super::rows::RowSystem;
 use crate::math::Real;
-use crate::params::{EngineParams, IterativeSolver};
+use crate::params::EngineParams;
 
 /// Fixed-point rounds between normal forces and friction.
 const FRICTION_ROUNDS: usize = 30;
@@ -177,7 +177,7 @@ impl IslandProblem<'_> {
                 1e-13 * tol / p.solver_tolerance_factor,
                 round_tol,
                 max_exact,
-                p.iterative_solver == IterativeSolver::Apgd,
+                p.iterative_solver,
                 p.apgd_max_iterations,
                 p.pgs_max_iterations,
             );

@@ -5,9 +5,11 @@
 
 pub mod apgd;
 pub mod baraff;
+pub mod mprgp;
 pub mod pgs;
 
 use crate::math::Real;
+use crate::params::IterativeSolver;
 use nalgebra::DMatrix;
 
 /// Access to the matrix A of an LCP, either dense or matrix-free.
@@ -134,7 +136,7 @@ pub(crate) fn residual_with_diag(diag: impl Fn(usize) -> Real, b: &[Real], f: &[
 }
 
 /// Solves an island's LCP (Baraff to `exact_tol`, iterative solvers to `tol`) with the solver its size calls for: Baraff up to `max_exact` rows
-/// (falling back to PGS if pivoting fails), else the iterative solver (APGD with a PGS polish,
+/// (falling back to PGS if pivoting fails), else the iterative solver (APGD or MPRGP with a PGS polish,
 /// or PGS alone). `f` carries the warm start for the iterative path.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_auto(
@@ -144,7 +146,7 @@ pub fn solve_auto(
     exact_tol: Real,
     tol: Real,
     max_exact: usize,
-    use_apgd: bool,
+    solver: IterativeSolver,
     apgd_iterations: usize,
     pgs_iterations: usize,
 ) -> LcpReport {
@@ -155,9 +157,12 @@ pub fn solve_auto(
             return rep;
         }
     }
-    if use_apgd {
-        let mut apgd = apgd::Apgd { max_iterations: apgd_iterations };
-        let rep = apgd.solve(a, b, f, tol);
+    if solver != IterativeSolver::Pgs {
+        let rep = if solver == IterativeSolver::Apgd {
+            apgd::Apgd { max_iterations: apgd_iterations }.solve(a, b, f, tol)
+        } else {
+            mprgp::Mprgp { max_iterations: apgd_iterations }.solve(a, b, f, tol)
+        };
         if rep.status == LcpStatus::Converged {
             return rep;
         }
