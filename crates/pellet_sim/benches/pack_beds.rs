@@ -56,7 +56,10 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
             iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
                 Ok("pgs") => IterativeSolver::Pgs,
                 Ok("apgd") => IterativeSolver::Apgd,
-                _ => IterativeSolver::Mprgp,
+                Ok("mprgp") => IterativeSolver::Mprgp,
+                // As `pack`: MPRGP for spheres, APGD for other shapes.
+                _ if kind == "sph" => IterativeSolver::Mprgp,
+                _ => IterativeSolver::Apgd,
             },
             ..match std::env::var("PELLET_BENCH_MODE").as_deref() {
                 Ok("recommended") => EngineParams::recommended(),

@@ -127,7 +127,7 @@ impl Default for EngineParams {
             collision_pass_cap: 50,
             exact_solver_max_rows: 64,
             exact_fallback_max_rows: 0,
-            iterative_solver: IterativeSolver::Mprgp,
+            iterative_solver: IterativeSolver::Apgd,
             coupled_friction_sweeps: 1000,
             solver_tolerance_factor: 1e-4,
             apgd_max_iterations: 200,
