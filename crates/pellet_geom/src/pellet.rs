@@ -59,6 +59,11 @@ pub struct Pellet {
 }
 
 impl Pellet {
+    /// Whether the pellet is an exact sphere (its closed form, not a mesh that looks like one).
+    pub fn is_sphere(&self) -> bool {
+        matches!(self.closed_form, Some(ClosedForm::Sphere { .. }))
+    }
+
     /// Meshes a catalogue shape.
     pub fn build(shape: ShapeSpec, resolution: Resolution) -> Result<Pellet, GeomError> {
         shape.validate()?;

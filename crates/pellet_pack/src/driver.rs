@@ -189,11 +189,6 @@ pub fn check_setup(config: &PackConfig, pellet: &Pellet) -> Result<(), PackError
     new_world(config, pellet).map(|_| ())
 }
 
-/// Whether `pellet` is a sphere (its exact shape, not a mesh that looks like one).
-fn is_sphere(pellet: &Pellet) -> bool {
-    matches!(pellet.closed_form, Some(ClosedForm::Sphere { .. }))
-}
-
 /// The empty world of a pack run: the tube, materials and engine parameters of `config`, and
 /// `pellet` registered as its one type (refused if the tube is too narrow for it). Beds of
 /// spheres solve their large islands with MPRGP, others with APGD: measured 2026-11-24 (sixth
@@ -214,7 +209,7 @@ pub fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_
     let material = Material { density: config.density_kg_m3, cor: config.cor, friction: config.friction };
     let wall = WallMaterial { cor: config.wall_cor, friction: config.wall_friction };
     let mut params = engine_params(config);
-    if is_sphere(pellet) {
+    if pellet.is_sphere() {
         params.iterative_solver = IterativeSolver::Mprgp;
     }
     let mut world =
@@ -246,7 +241,7 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
         Amount::FillHeight(_) => None,
     };
     let mass = config.density_kg_m3 * pellet.properties.volume;
-    let spheres = is_sphere(pellet);
+    let spheres = pellet.is_sphere();
     let mut pipeline = Pipeline::new();
     let mut history: Vec<EnergySample> = Vec::new();
     let mut feeding = true;

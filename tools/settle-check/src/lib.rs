@@ -177,7 +177,7 @@ fn criteria(args: &Args, t: &Trajectory, types: &[pellet_geom::Pellet]) -> anyho
     c.window_s = args.settle_window;
     c.relative_tolerance = args.settle_tolerance;
     c.max_speed_m_s = args.max_speed;
-    c.spheres = types.iter().all(|p| matches!(p.closed_form, Some(pellet_geom::sdf::ClosedForm::Sphere { .. })));
+    c.spheres = types.iter().all(pellet_geom::Pellet::is_sphere);
     if let Some(b) = args.ke_bound {
         c.ke_bound_j = b;
     }

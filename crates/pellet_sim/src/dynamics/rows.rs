@@ -49,29 +49,26 @@ impl Row {
     /// Builds a row from the lever arms of the application points (`lever_b` ignored if B is
     /// static) and the local body indices into `masses`.
     pub fn new(a: usize, b: Option<usize>, lever_a: &Vec3, lever_b: &Vec3, dir: &Vec3, masses: &[BodyMass]) -> Self {
-        let ang_a = lever_a.cross(dir);
+        // |r × d| ≤ 1e-12 |r||d|: the lever is parallel to the direction (sphere contacts give
+        // ~1e-16 from the rounding of r = −ρ n). Such a row's torques are taken as exactly zero.
+        let parallel = |r: &Vec3, ang: &Vec3| ang.norm_squared() <= 1e-24 * r.norm_squared() * dir.norm_squared();
+        let (ang_a, ang_b) = (lever_a.cross(dir), b.map_or_else(Vec3::zeros, |_| lever_b.cross(dir)));
+        let linear = parallel(lever_a, &ang_a) && (b.is_none() || parallel(lever_b, &ang_b));
+        let (ang_a, ang_b) = if linear { (Vec3::zeros(), Vec3::zeros()) } else { (ang_a, ang_b) };
         let ma = &masses[a];
         let wa_l = dir * ma.inv_mass;
         let wa_a = ma.inv_inertia * ang_a;
         let mut diag = dir.dot(&wa_l) + ang_a.dot(&wa_a);
-        let (ang_b, wb_l, wb_a) = match b {
+        let (wb_l, wb_a) = match b {
             Some(bi) => {
-                let ang_b = lever_b.cross(dir);
                 let mb = &masses[bi];
                 let wb_l = -dir * mb.inv_mass;
                 let wb_a = -(mb.inv_inertia * ang_b);
                 diag += dir.dot(&(-wb_l)) + ang_b.dot(&(-wb_a));
-                (ang_b, wb_l, wb_a)
+                (wb_l, wb_a)
             }
-            None => (Vec3::zeros(), Vec3::zeros(), Vec3::zeros()),
+            None => (Vec3::zeros(), Vec3::zeros()),
         };
-        // |r × d| ≤ 1e-12 |r||d|: the lever is parallel to the direction (sphere contacts give
-        // ~1e-16 from the rounding of r = −ρ n).
-        let parallel = |r: &Vec3, ang: &Vec3| ang.norm_squared() <= 1e-24 * r.norm_squared() * dir.norm_squared();
-        let linear = parallel(lever_a, &ang_a) && (b.is_none() || parallel(lever_b, &ang_b));
-        let (ang_a, ang_b) = if linear { (Vec3::zeros(), Vec3::zeros()) } else { (ang_a, ang_b) };
-        let (wa_a, wb_a) = if linear { (Vec3::zeros(), Vec3::zeros()) } else { (wa_a, wb_a) };
-        let diag = if linear { dir.dot(&wa_l) + b.map_or(0.0, |_| dir.dot(&(-wb_l))) } else { diag };
         Self { a, b, dir: *dir, ang_a, ang_b, w: [wa_l, wa_a, wb_l, wb_a], diag, linear }
     }
 

@@ -20,11 +20,20 @@ pub struct BroadPhase {
     pairs: Vec<(u32, u32)>,
 }
 
+/// Bits of a cell key per axis.
+const AXIS_BITS: u32 = 21;
+
 fn cell_key(ix: i64, iy: i64, iz: i64) -> u64 {
-    // 21 bits per axis, offset so that negative cells map to distinct keys.
-    let m = (1i64 << 21) - 1;
-    let off = 1i64 << 20;
-    (((ix + off) & m) as u64) << 42 | (((iy + off) & m) as u64) << 21 | ((iz + off) & m) as u64
+    // AXIS_BITS per axis, offset so that negative cells map to distinct keys.
+    let m = (1i64 << AXIS_BITS) - 1;
+    let off = 1i64 << (AXIS_BITS - 1);
+    (((ix + off) & m) as u64) << (2 * AXIS_BITS) | (((iy + off) & m) as u64) << AXIS_BITS | ((iz + off) & m) as u64
+}
+
+/// The offset cell coordinates (x, y, z) of a key, in the key's own order.
+fn key_cell(k: u64) -> [i64; 3] {
+    let m = (1u64 << AXIS_BITS) - 1;
+    [(k >> (2 * AXIS_BITS)) as i64, ((k >> AXIS_BITS) & m) as i64, (k & m) as i64]
 }
 
 impl BroadPhase {
@@ -34,10 +43,9 @@ impl BroadPhase {
     /// comparison sort of the ~8 entries per body was half of the broad phase. A box too big
     /// to count over (bodies spread far apart) falls back to the comparison sort.
     fn sort_entries(&mut self) {
-        let decode = |k: u64| [(k >> 42) as i64, ((k >> 21) & ((1 << 21) - 1)) as i64, (k & ((1 << 21) - 1)) as i64];
         let (mut lo, mut hi) = ([i64::MAX; 3], [i64::MIN; 3]);
         for &(k, _) in &self.entries {
-            let c = decode(k);
+            let c = key_cell(k);
             for a in 0..3 {
                 lo[a] = lo[a].min(c[a]);
                 hi[a] = hi[a].max(c[a]);
@@ -54,7 +62,7 @@ impl BroadPhase {
         self.counts.resize(cells + 1, 0);
         self.dense.clear();
         for &(k, _) in &self.entries {
-            let c = decode(k);
+            let c = key_cell(k);
             let d = ((c[0] - lo[0]) * extent[1] + (c[1] - lo[1])) * extent[2] + (c[2] - lo[2]);
             self.dense.push(d as u32);
             self.counts[d as usize + 1] += 1;

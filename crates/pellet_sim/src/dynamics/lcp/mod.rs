@@ -151,26 +151,20 @@ pub fn solve_auto(
     pgs_iterations: usize,
 ) -> LcpReport {
     if a.dim() <= max_exact {
-        let mut solver = baraff::Baraff::default();
-        let rep = solver.solve(a, b, f, exact_tol);
+        let rep = baraff::Baraff::default().solve(a, b, f, exact_tol);
         if rep.status == LcpStatus::Converged || rep.status == LcpStatus::Infeasible {
             return rep;
         }
     }
-    if solver != IterativeSolver::Pgs {
-        let rep = if solver == IterativeSolver::Apgd {
-            apgd::Apgd { max_iterations: apgd_iterations }.solve(a, b, f, tol)
-        } else {
-            mprgp::Mprgp { max_iterations: apgd_iterations }.solve(a, b, f, tol)
-        };
-        if rep.status == LcpStatus::Converged {
-            return rep;
-        }
-        let mut pgs = pgs::Pgs { max_iterations: pgs_iterations, sor: 1.0 };
-        let mut rep2 = pgs.solve(a, b, f, tol);
-        rep2.iterations += rep.iterations;
-        return rep2;
+    let first = match solver {
+        IterativeSolver::Apgd => Some(apgd::Apgd { max_iterations: apgd_iterations }.solve(a, b, f, tol)),
+        IterativeSolver::Mprgp => Some(mprgp::Mprgp { max_iterations: apgd_iterations }.solve(a, b, f, tol)),
+        IterativeSolver::Pgs => None,
+    };
+    if let Some(rep) = first.filter(|r| r.status == LcpStatus::Converged) {
+        return rep;
     }
-    let mut pgs = pgs::Pgs { max_iterations: pgs_iterations, sor: 1.0 };
-    pgs.solve(a, b, f, tol)
+    let mut rep = pgs::Pgs { max_iterations: pgs_iterations, sor: 1.0 }.solve(a, b, f, tol);
+    rep.iterations += first.map_or(0, |r| r.iterations);
+    rep
 }

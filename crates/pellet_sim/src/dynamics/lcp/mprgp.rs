@@ -86,12 +86,17 @@ impl Scaled<'_> {
         }
     }
 
-    /// g = Â y + b̂, then φ and the stats of (y, g).
-    fn gradient(&mut self, y: &[Real], g: &mut [Real], phi: &mut [Real], inv_alpha: Real) -> Stats {
+    /// g = Â y + b̂.
+    fn gradient_only(&mut self, y: &[Real], g: &mut [Real]) {
         self.mul(y, g);
         for (gi, bi) in g.iter_mut().zip(&self.b) {
             *gi += bi;
         }
+    }
+
+    /// g = Â y + b̂, then φ and the stats of (y, g).
+    fn gradient(&mut self, y: &[Real], g: &mut [Real], phi: &mut [Real], inv_alpha: Real) -> Stats {
+        self.gradient_only(y, g);
         self.stats(y, g, phi, inv_alpha)
     }
 
@@ -199,10 +204,7 @@ impl LcpSolver for Mprgp {
                         for i in 0..n {
                             y[i] = (p[i] - alpha_bar * phi[i]).max(0.0);
                         }
-                        sc.mul(&y, &mut g);
-                        for (gi, bi) in g.iter_mut().zip(&sc.b) {
-                            *gi += bi;
-                        }
+                        sc.gradient_only(&y, &mut g);
                         it += 1;
                         if sc.objective(&y, &g) <= q_half || alpha_bar < 1e-300 {
                             break;
@@ -233,9 +235,9 @@ impl LcpSolver for Mprgp {
                 st = sc.stats(&y, &g, &mut phi, 1.0 / alpha_bar);
                 p.copy_from_slice(&phi);
             }
-            if since_refresh >= REFRESH || st.r <= tol {
+            if since_refresh >= REFRESH || (st.r <= tol && since_refresh > 0) {
                 // From scratch: the recurrence drifts, and a converged answer is confirmed on
-                // the true gradient.
+                // the true gradient (an expansion step just computed it: since_refresh = 0).
                 st = sc.gradient(&y, &mut g, &mut phi, 1.0 / alpha_bar);
                 since_refresh = 0;
             }
