@@ -143,6 +143,7 @@ pub fn collision_phase(
                 params.iterative_solver,
                 10 * params.apgd_max_iterations,
                 10 * params.pgs_max_iterations,
+                false,
             );
             stats.solver_iterations += rep.iterations;
             let ke0 = kinetic(bodies, &island.bodies);

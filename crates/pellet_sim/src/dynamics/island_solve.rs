@@ -142,6 +142,8 @@ impl IslandProblem<'_> {
         let (p, sys, fric, dt) = (self.params, self.sys, self.fric, self.dt);
         let tol = p.solver_tolerance();
         let max_exact = if exact { usize::MAX } else { 0 };
+        // `solve` gives such an island to Baraff if this ends unconverged.
+        let exact_follows = !exact && sys.dim() <= p.exact_fallback_max_rows;
         let (rounds, friction_tol) = match (fric.is_empty(), exact) {
             (true, _) => (1, 0.0),
             (false, true) => (FRICTION_ROUNDS, FRICTION_TOL_FACTOR * tol),
@@ -180,6 +182,7 @@ impl IslandProblem<'_> {
                 p.iterative_solver,
                 p.apgd_max_iterations,
                 p.pgs_max_iterations,
+                exact_follows,
             );
             sol.iterations += rep.iterations;
             sol.report = Some(rep);

@@ -12,7 +12,7 @@ use super::contact_sampled::{golden_min, reduce, Hit, NEAR_BAND};
 use super::narrow_phase::Pellet;
 use super::samples::rim_point;
 use crate::container::{Container, WallId};
-use crate::math::{Real, Vec3};
+use crate::math::{axial_distance, Real, Vec3};
 use crate::shape::ShapeDesc;
 use std::f64::consts::TAU;
 
@@ -45,7 +45,7 @@ fn make(a: &Pellet<'_>, wall: WallId, p: Vec3, normal: Vec3, gap: Real, kin: Gap
 
 /// Tube wall normal and gap at world point `p`.
 fn tube_at(container: &Container, p: &Vec3) -> (Vec3, Real, Real) {
-    let rho = p.x.hypot(p.y);
+    let rho = axial_distance(p.x, p.y);
     let n = if rho > 0.0 { Vec3::new(-p.x / rho, -p.y / rho, 0.0) } else { -Vec3::x() };
     (n, container.tube_radius - rho, rho)
 }
@@ -73,7 +73,7 @@ fn rims_wall(container: &Container, wall: WallId, a: &Pellet<'_>, max_gap: Real,
             let world = |t: Real| rot * rim_point(rim.radius, rim.z, t) + x;
             let neg_rho = |t: Real| {
                 let p = world(t);
-                -p.x.hypot(p.y)
+                -axial_distance(p.x, p.y)
             };
             let step = TAU / TUBE_SCAN as Real;
             let best = (0..TUBE_SCAN).map(|s| step * s as Real).fold((0.0, Real::INFINITY), |b, t| {

@@ -5,7 +5,7 @@
 //! file's Loop-subdivided mesh rounds the rims off, so its vertices are not on the true edges);
 //! mesh shapes use the samples they were given (normally the mesh vertices).
 
-use crate::math::{Real, Vec3};
+use crate::math::{axial_distance, Real, Vec3};
 use crate::shape::{BodyType, ShapeDesc};
 use std::f64::consts::TAU;
 
@@ -160,7 +160,7 @@ fn cone(shape: &ShapeDesc, p: &Vec3) -> (Vec3, Vec3) {
 pub fn cone_alignment(m: &Vec3, cone: &(Vec3, Vec3)) -> Real {
     let (a, b) = (m.dot(&cone.0), m.dot(&cone.1));
     if cone.0 != cone.1 && a > 0.0 && b > 0.0 {
-        a.hypot(b)
+        axial_distance(a, b)
     } else {
         a.max(b)
     }

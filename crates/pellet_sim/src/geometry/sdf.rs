@@ -4,7 +4,7 @@
 //! the world stays serialisable and this crate free of mesh queries).
 
 use crate::error::SimError;
-use crate::math::{Real, Vec3};
+use crate::math::{axial_distance, Real, Vec3};
 use crate::shape::ShapeDesc;
 use serde::{Deserialize, Serialize};
 
@@ -98,7 +98,7 @@ impl SdfGrid {
 /// `sd(q)` of physics.md §6.3 with its gradient in (radial, axial) components.
 fn sd_box2(qx: Real, qy: Real) -> (Real, Real, Real) {
     if qx > 0.0 && qy > 0.0 {
-        let d = qx.hypot(qy);
+        let d = axial_distance(qx, qy);
         (d, qx / d, qy / d)
     } else if qx >= qy {
         (qx, 1.0, 0.0)
@@ -109,7 +109,7 @@ fn sd_box2(qx: Real, qy: Real) -> (Real, Real, Real) {
 
 /// Unit radial direction of `p` (x when on the axis, a fixed choice: any is valid there).
 fn radial(p: &Vec3) -> (Real, Vec3) {
-    let rho = p.x.hypot(p.y);
+    let rho = axial_distance(p.x, p.y);
     if rho > 0.0 {
         (rho, Vec3::new(p.x / rho, p.y / rho, 0.0))
     } else {
@@ -161,7 +161,7 @@ pub fn edge_faces(shape: &ShapeDesc, p: &Vec3, eps: Real) -> Option<[(Real, Vec3
         }
         _ => return None,
     };
-    if qx.max(0.0).hypot(qy.max(0.0)) > eps {
+    if axial_distance(qx.max(0.0), qy.max(0.0)) > eps {
         return None;
     }
     let ez = Vec3::new(0.0, 0.0, if p.z >= 0.0 { 1.0 } else { -1.0 });

@@ -5,7 +5,7 @@ use super::world::World;
 use crate::body::Body;
 use crate::container::{Container, WallId};
 use crate::geometry::broad_phase::BroadPhase;
-use crate::math::{Real, Vec3};
+use crate::math::{axial_distance, Real, Vec3};
 use crate::params::ApproachBound;
 use crate::shape::ShapeDesc;
 
@@ -119,7 +119,7 @@ fn wall_closing(container: &Container, wall: WallId, b: &Body, round: bool, dt_c
         WallId::Floor => (-v.z).max(0.0),
         WallId::Lid => v.z.max(0.0),
         WallId::Tube => {
-            let r = b.position.x.hypot(b.position.y);
+            let r = axial_distance(b.position.x, b.position.y);
             let vxy = Vec3::new(v.x, v.y, 0.0);
             if r <= 1e-12 {
                 return vxy.norm();

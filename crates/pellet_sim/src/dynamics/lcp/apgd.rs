@@ -1,7 +1,7 @@
 //! Accelerated projected gradient descent (Nesterov with backtracking and adaptive restart), as
 //! in Chrono's ChSolverAPGD (physics.md §4.5). Matrix-free: needs only y ↦ A y.
 
-use super::{residual_with_diag, LcpMatrix, LcpReport, LcpSolver, LcpStatus};
+use super::{cap_out_of_reach, residual_with_diag, LcpMatrix, LcpReport, LcpSolver, LcpStatus, STALL_WINDOW};
 use crate::math::Real;
 
 /// APGD solver.
@@ -9,11 +9,13 @@ use crate::math::Real;
 pub struct Apgd {
     /// Iteration cap.
     pub max_iterations: usize,
+    /// Stop once the cap is out of reach ([`cap_out_of_reach`]): for callers with a fallback.
+    pub stall_test: bool,
 }
 
 impl Default for Apgd {
     fn default() -> Self {
-        Self { max_iterations: 200 }
+        Self { max_iterations: 200, stall_test: false }
     }
 }
 
@@ -56,6 +58,7 @@ impl LcpSolver for Apgd {
         let mut axn = vec![0.0; n];
         let mut g = vec![0.0; n];
         let mut it = 0;
+        let mut window_start = r_best;
         // The vector work is fused into three passes per iteration (gradient with q(y); the
         // projected step; q(xn) with the residual and the restart test) with every sum taken
         // in index order as before, so the iterates are bit-identical to the unfused loops.
@@ -105,6 +108,12 @@ impl LcpSolver for Apgd {
             }
             if r_best <= tol {
                 break;
+            }
+            if self.stall_test && it % STALL_WINDOW == 0 {
+                if cap_out_of_reach(r_best, window_start, it, self.max_iterations, tol) {
+                    break;
+                }
+                window_start = r_best;
             }
             if restart {
                 y.copy_from_slice(&xn);

@@ -1,6 +1,6 @@
 //! Projected Gauss–Seidel with symmetric (forward/backward) sweeps (physics.md §4.5).
 
-use super::{residual, LcpMatrix, LcpReport, LcpSolver, LcpStatus};
+use super::{cap_out_of_reach, residual, LcpMatrix, LcpReport, LcpSolver, LcpStatus, STALL_WINDOW};
 use crate::math::Real;
 
 /// PGS solver; rows are swept in index order, which callers make bottom-up.
@@ -10,11 +10,13 @@ pub struct Pgs {
     pub max_iterations: usize,
     /// Over-relaxation factor (1 = plain Gauss–Seidel).
     pub sor: Real,
+    /// Stop once the cap is out of reach ([`cap_out_of_reach`]), as the fallback does.
+    pub stall_test: bool,
 }
 
 impl Default for Pgs {
     fn default() -> Self {
-        Self { max_iterations: 500, sor: 1.0 }
+        Self { max_iterations: 500, sor: 1.0, stall_test: false }
     }
 }
 
@@ -30,7 +32,12 @@ impl LcpSolver for Pgs {
         }
         let mut it = 0;
         let (mut r, mut min_a) = residual(a, b, f);
-        while it < self.max_iterations && r > tol {
+        // The best iterate is the answer: PGS's residual is not monotone, and as APGD's
+        // fallback on the redundant rows of cylinder contacts it mostly ended worse than it
+        // started (2595 of 3075 fallbacks in a 3.55 N cylinder pour, 1.5 s).
+        let (mut best, mut r_best, mut min_a_best) = (f.to_vec(), r, min_a);
+        let mut window_start = r;
+        while it < self.max_iterations && r_best > tol {
             it += 1;
             let forward = it % 2 == 1;
             for k in 0..n {
@@ -47,7 +54,20 @@ impl LcpSolver for Pgs {
                 }
             }
             (r, min_a) = residual(a, b, f);
+            if r < r_best {
+                best.copy_from_slice(f);
+                (r_best, min_a_best) = (r, min_a);
+            }
+            if self.stall_test && it % STALL_WINDOW == 0 {
+                if cap_out_of_reach(r_best, window_start, it, self.max_iterations, tol) {
+                    break;
+                }
+                window_start = r_best;
+            }
         }
+        f.copy_from_slice(&best);
+        let r = r_best;
+        let min_a = min_a_best;
         LcpReport {
             iterations: it,
             residual: r,
