@@ -90,6 +90,10 @@ fn t12_3_inconsistent_redundant_pair_is_infeasible() {
     assert_eq!(rep.status, LcpStatus::MaxIterations);
     assert!(rep.iterations <= 100, "{rep:?}");
     assert_eq!((rep.residual, f), (1.0, [0.0, 0.0]), "{rep:?}");
+    // So does APGD where Baraff will solve the island again.
+    let rep = Apgd { max_iterations: 20000, stall_test: true }.solve(&a, &[-1.0, -1.0], &mut [0.0; 2], 1e-9);
+    assert_eq!(rep.status, LcpStatus::MaxIterations);
+    assert!(rep.iterations <= 100, "{rep:?}");
     // MPRGP stops at the direction of zero curvature along which the objective falls forever.
     let rep = Mprgp { max_iterations: 100 }.solve(&a, &[-1.0, -1.0], &mut [0.0; 2], 1e-9);
     assert_eq!(rep.status, LcpStatus::MaxIterations);

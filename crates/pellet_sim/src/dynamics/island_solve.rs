@@ -81,6 +81,11 @@ pub struct IslandSolution {
 }
 
 impl IslandProblem<'_> {
+    /// Whether `solve` gives this island to Baraff when its iterative solve ends unconverged.
+    fn exact_fallback(&self) -> bool {
+        self.sys.dim() <= self.params.exact_fallback_max_rows
+    }
+
     fn has_dynamic(&self) -> bool {
         self.fric.iter().any(|x| x.kind == Friction::Dynamic)
     }
@@ -122,7 +127,7 @@ impl IslandProblem<'_> {
         let exact = dim <= p.exact_solver_max_rows;
         let sol = self.solve_with(&f0, exact);
         let unconverged = sol.report.is_some_and(|r| r.status != LcpStatus::Converged);
-        if !exact && unconverged && dim <= p.exact_fallback_max_rows {
+        if !exact && unconverged && self.exact_fallback() {
             let mut again = self.solve_with(&f0, true);
             again.iterations += sol.iterations;
             // Kept only if no worse: in the paper's 40.45 mm ring bed the exact path's friction
@@ -142,8 +147,7 @@ impl IslandProblem<'_> {
         let (p, sys, fric, dt) = (self.params, self.sys, self.fric, self.dt);
         let tol = p.solver_tolerance();
         let max_exact = if exact { usize::MAX } else { 0 };
-        // `solve` gives such an island to Baraff if this ends unconverged.
-        let exact_follows = !exact && sys.dim() <= p.exact_fallback_max_rows;
+        let exact_follows = !exact && self.exact_fallback();
         let (rounds, friction_tol) = match (fric.is_empty(), exact) {
             (true, _) => (1, 0.0),
             (false, true) => (FRICTION_ROUNDS, FRICTION_TOL_FACTOR * tol),

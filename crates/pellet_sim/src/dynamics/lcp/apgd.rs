@@ -1,7 +1,7 @@
 //! Accelerated projected gradient descent (Nesterov with backtracking and adaptive restart), as
 //! in Chrono's ChSolverAPGD (physics.md §4.5). Matrix-free: needs only y ↦ A y.
 
-use super::{cap_out_of_reach, residual_with_diag, LcpMatrix, LcpReport, LcpSolver, LcpStatus, STALL_WINDOW};
+use super::{residual_with_diag, LcpMatrix, LcpReport, LcpSolver, LcpStatus, StallWindow};
 use crate::math::Real;
 
 /// APGD solver.
@@ -9,7 +9,7 @@ use crate::math::Real;
 pub struct Apgd {
     /// Iteration cap.
     pub max_iterations: usize,
-    /// Stop once the cap is out of reach ([`cap_out_of_reach`]): for callers with a fallback.
+    /// Stop once the cap is out of reach ([`cap_out_of_reach`](super::cap_out_of_reach)): for callers with a fallback.
     pub stall_test: bool,
 }
 
@@ -58,7 +58,7 @@ impl LcpSolver for Apgd {
         let mut axn = vec![0.0; n];
         let mut g = vec![0.0; n];
         let mut it = 0;
-        let mut window_start = r_best;
+        let mut stall = StallWindow::new(r_best);
         // The vector work is fused into three passes per iteration (gradient with q(y); the
         // projected step; q(xn) with the residual and the restart test) with every sum taken
         // in index order as before, so the iterates are bit-identical to the unfused loops.
@@ -109,11 +109,8 @@ impl LcpSolver for Apgd {
             if r_best <= tol {
                 break;
             }
-            if self.stall_test && it % STALL_WINDOW == 0 {
-                if cap_out_of_reach(r_best, window_start, it, self.max_iterations, tol) {
-                    break;
-                }
-                window_start = r_best;
+            if self.stall_test && stall.hopeless(it, r_best, self.max_iterations, tol) {
+                break;
             }
             if restart {
                 y.copy_from_slice(&xn);

@@ -130,6 +130,31 @@ pub fn cap_out_of_reach(r_best: Real, window_start: Real, it: usize, cap: usize,
     contraction >= 1.0 || contraction.powf(windows_left) * r_best > tol
 }
 
+/// [`cap_out_of_reach`] as a solver applies it: at the end of every window, against the best
+/// residual at the window's start.
+pub(crate) struct StallWindow {
+    start: Real,
+}
+
+impl StallWindow {
+    /// A first window starting from residual `r0`.
+    pub(crate) fn new(r0: Real) -> Self {
+        Self { start: r0 }
+    }
+
+    /// After iteration `it`, with the best residual so far: true when the solver should stop.
+    pub(crate) fn hopeless(&mut self, it: usize, r_best: Real, cap: usize, tol: Real) -> bool {
+        if !it.is_multiple_of(STALL_WINDOW) {
+            return false;
+        }
+        if cap_out_of_reach(r_best, self.start, it, cap, tol) {
+            return true;
+        }
+        self.start = r_best;
+        false
+    }
+}
+
 /// Natural residual and most negative a of `f`.
 pub fn residual(a: &dyn LcpMatrix, b: &[Real], f: &[Real]) -> (Real, Real) {
     let mut af = vec![0.0; f.len()];

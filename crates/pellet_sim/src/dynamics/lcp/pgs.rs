@@ -1,6 +1,6 @@
 //! Projected Gauss–Seidel with symmetric (forward/backward) sweeps (physics.md §4.5).
 
-use super::{cap_out_of_reach, residual, LcpMatrix, LcpReport, LcpSolver, LcpStatus, STALL_WINDOW};
+use super::{residual, LcpMatrix, LcpReport, LcpSolver, LcpStatus, StallWindow};
 use crate::math::Real;
 
 /// PGS solver; rows are swept in index order, which callers make bottom-up.
@@ -10,7 +10,7 @@ pub struct Pgs {
     pub max_iterations: usize,
     /// Over-relaxation factor (1 = plain Gauss–Seidel).
     pub sor: Real,
-    /// Stop once the cap is out of reach ([`cap_out_of_reach`]), as the fallback does.
+    /// Stop once the cap is out of reach ([`cap_out_of_reach`](super::cap_out_of_reach)), as the fallback does.
     pub stall_test: bool,
 }
 
@@ -36,7 +36,7 @@ impl LcpSolver for Pgs {
         // fallback on the redundant rows of cylinder contacts it mostly ended worse than it
         // started (2595 of 3075 fallbacks in a 3.55 N cylinder pour, 1.5 s).
         let (mut best, mut r_best, mut min_a_best) = (f.to_vec(), r, min_a);
-        let mut window_start = r;
+        let mut stall = StallWindow::new(r);
         while it < self.max_iterations && r_best > tol {
             it += 1;
             let forward = it % 2 == 1;
@@ -58,21 +58,16 @@ impl LcpSolver for Pgs {
                 best.copy_from_slice(f);
                 (r_best, min_a_best) = (r, min_a);
             }
-            if self.stall_test && it % STALL_WINDOW == 0 {
-                if cap_out_of_reach(r_best, window_start, it, self.max_iterations, tol) {
-                    break;
-                }
-                window_start = r_best;
+            if self.stall_test && stall.hopeless(it, r_best, self.max_iterations, tol) {
+                break;
             }
         }
         f.copy_from_slice(&best);
-        let r = r_best;
-        let min_a = min_a_best;
         LcpReport {
             iterations: it,
-            residual: r,
-            min_a,
-            status: if r <= tol { LcpStatus::Converged } else { LcpStatus::MaxIterations },
+            residual: r_best,
+            min_a: min_a_best,
+            status: if r_best <= tol { LcpStatus::Converged } else { LcpStatus::MaxIterations },
         }
     }
 }
