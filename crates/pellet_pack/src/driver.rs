@@ -123,10 +123,20 @@ pub fn body_type(pellet: &Pellet) -> Result<BodyType, PackError> {
         }
         None => mesh_shape(pellet)?,
     };
+    // A sphere's contacts are those of the exact sphere, so is its inertia: the faceted mesh's
+    // tensor is isotropic but for ~1e-3 of its trace, and an exactly isotropic one lets the
+    // engine skip R I Rᵀ (`Body::inv_inertia_world`).
+    let inertia = match shape {
+        ShapeDesc::Sphere { .. } => {
+            let mean = pellet.properties.inertia.trace() / 3.0;
+            pellet_sim::Mat3::identity() * mean
+        }
+        _ => pellet.properties.inertia,
+    };
     Ok(BodyType {
         shape,
         volume_m3: pellet.properties.volume,
-        inertia_per_density_m5: pellet.properties.inertia,
+        inertia_per_density_m5: inertia,
         bounding_radius_m: pellet.bounding_radius,
     })
 }
