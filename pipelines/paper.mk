@@ -71,7 +71,7 @@ $(OUT)/ring.pellet: | $(OUT)
 # The case file is rewritten only when its text changes, so editing one row
 # of the table re-runs only that row's beds.
 $(CASES)/%.toml: $(TABLE) $(HERE)/case.awk | $(CASES)
-	awk -F, -v id=$* -v pellets=$(OUT) -f $(HERE)/case.awk $(TABLE) > $@.tmp
+	awk -F, -v id=$* -f $(HERE)/case.awk $(TABLE) > $@.tmp
 	if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
 
 # pack exits 2 when --max-time is reached before the bed settles; the

@@ -1,5 +1,5 @@
 # Writes the pack case file (TOML) of one bed: awk -F, -v id=<config>-s<seed>
-# -v pellets=DIR -f case.awk TABLE. Empty cells are left out, so pack's
+# -f case.awk TABLE. Empty cells are left out, so pack's
 # defaults (the paper's validation values) apply. The voidprof window rides
 # along as a comment that paper.mk reads back.
 NR > 1 {
@@ -11,7 +11,9 @@ NR > 1 {
     # No label here: editing a label must not re-run hours of beds.
     printf "# packbed paper study, bed %s (%s), made by pipelines/paper.mk from the bed table\n", id, $2
     printf "# voidprof-window: %s,%s\n", $7, $8
-    printf "pellet = \"%s/%s.pellet\"\n", pellets, $3
+    # Case files sit in $(OUT)/cases, the pellets in $(OUT); pack reads a case file's paths
+    # relative to the case file.
+    printf "pellet = \"../%s.pellet\"\n", $3
     printf "tube-diameter = %s\nfill-height = %s\nseed = %s\nscheme = \"%s\"\n", $4, $6, seed, $9
     if ($10 != "") printf "cor = %s\n", $10
     if ($11 != "") printf "friction = %s\n", $11

@@ -118,6 +118,23 @@ impl PackOptions {
         }
     }
 
+    /// The file paths of a case file read from `case_path`: a relative `pellet` or `output`
+    /// names a file beside the case file, wherever `pack` runs (as `include` in a Makefile or
+    /// a path in Cargo.toml). A case read from stdin (`-`) keeps them relative to the working
+    /// directory, as flags are.
+    pub fn relative_to_case_file(mut self, case_path: &str) -> Self {
+        if case_path == "-" {
+            return self;
+        }
+        let dir = std::path::Path::new(case_path).parent().unwrap_or(std::path::Path::new(""));
+        for file in [&mut self.pellet, &mut self.output].into_iter().flatten() {
+            if file != "-" && std::path::Path::new(file.as_str()).is_relative() {
+                *file = dir.join(file.as_str()).to_string_lossy().into_owned();
+            }
+        }
+        self
+    }
+
     /// `self` with every field that `over` sets replaced by `over`'s.
     pub fn overlay(self, over: PackOptions) -> PackOptions {
         let base = self;
@@ -318,6 +335,22 @@ mod tests {
         assert!((c.tube_diameter_m - 0.06983).abs() < 1e-15);
         assert_eq!(c.scheme, LoadingScheme::OneColumn);
         assert!((c.tilt_rad.to_degrees() - 45.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn case_file_paths_are_relative_to_the_case_file() {
+        let text = "pellet = \"../s.pellet\"\noutput = \"bed.mcap\"\n";
+        let o =
+            PackOptions::from_case_file(text, "out/cases/a.toml").unwrap().relative_to_case_file("out/cases/a.toml");
+        assert_eq!(o.pellet.as_deref(), Some("out/cases/../s.pellet"));
+        assert_eq!(o.output.as_deref(), Some("out/cases/bed.mcap"));
+        let o = PackOptions::from_case_file(text, "a.toml").unwrap().relative_to_case_file("a.toml");
+        assert_eq!(o.pellet.as_deref(), Some("../s.pellet"));
+        let o = PackOptions::from_case_file(text, "-").unwrap().relative_to_case_file("-");
+        assert_eq!(o.output.as_deref(), Some("bed.mcap"));
+        let abs = "pellet = \"/data/s.pellet\"\noutput = \"-\"\n";
+        let o = PackOptions::from_case_file(abs, "x/a.toml").unwrap().relative_to_case_file("x/a.toml");
+        assert_eq!((o.pellet.as_deref(), o.output.as_deref()), (Some("/data/s.pellet"), Some("-")));
     }
 
     #[test]

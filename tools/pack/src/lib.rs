@@ -28,6 +28,7 @@ Examples:
 
 A case file (TOML, or JSON starting with '{') holds any of the flags below,
 spelled the same: tube-diameter = 69.83, fill-height = 120, scheme = \"sock\", ...
+Relative paths in it (pellet, output) are relative to the case file's directory.
 Lengths in mm, times in s, angles in degrees. Then: settle-check bed.mcap -o bed.packing.
 Exit codes: 0 settled, 2 error (also: time limit reached before settling, or interrupted;
 the trajectory is complete and readable in every case).";
@@ -226,7 +227,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         Some(path) => {
             let text =
                 String::from_utf8(pellet_io::read_input(path)?).with_context(|| format!("{path}: not UTF-8 text"))?;
-            PackOptions::from_case_file(&text, path)?
+            PackOptions::from_case_file(&text, path)?.relative_to_case_file(path)
         }
         None => PackOptions::default(),
     };

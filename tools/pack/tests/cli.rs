@@ -199,3 +199,23 @@ fn the_batch_scheme_releases_every_pellet_at_once_and_settles() {
     assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     assert!(!dir.path().join("f.mcap").exists());
 }
+
+/// A case file's relative paths name files beside it, whatever the working directory.
+#[test]
+fn case_file_paths_are_relative_to_the_case_file() {
+    let dir = setup();
+    std::fs::create_dir(dir.path().join("cases")).unwrap();
+    std::fs::write(
+        dir.path().join("cases/c.toml"),
+        "pellet = \"../s.pellet\"\ntube-diameter = 30\ncount = 3\nmax-time = 0.05\noutput = \"c.mcap\"\n",
+    )
+    .unwrap();
+    let out = pack(dir.path(), &["--case", "cases/c.toml", "--quiet"]);
+    // Too short to settle (exit 2), but read the pellet beside the case and wrote beside it.
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(dir.path().join("cases/c.mcap").exists());
+    // A flag stays relative to the working directory.
+    let out = pack(dir.path(), &["--case", "cases/c.toml", "--quiet", "-o", "top.mcap"]);
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(dir.path().join("top.mcap").exists());
+}
