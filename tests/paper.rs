@@ -10,14 +10,16 @@ use pellet_tests::{bin, Scenario};
 use serde_json::Value;
 
 /// Small beds: two seeds of one validation tube, two COR values (one seed),
-/// and rows that are never run (they must be reported missing).
+/// rows that are never run (they must be reported missing), and a loading row
+/// whose bed is the validation tube's seed 1 (`same_as`).
 const TABLE: &str = "\
-config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label
+config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as
 val-sphere-D25,validation,sphere,25,2,20,0,12,one-column,,,,,6,small Table 3 tube
 cor-sphere-D25-c0.3,cor,sphere,25,1,20,0,12,one-column,0.3,0.6,0.8,45,6,COR 0.3
 cor-sphere-D25-c0.9,cor,sphere,25,1,20,0,12,one-column,0.9,0.6,0.8,45,6,COR 0.9
 mu-sphere-D25-m0.3,friction,sphere,25,2,20,0,12,one-column,0.6,0.3,0.8,45,6,never run
 load-sphere-D25-two-columns,loading,sphere,25,1,20,0,12,two-columns,,,,,6,never run
+load-sphere-D25-one-column,loading,sphere,25,1,20,0,12,one-column,,,,,6,scheme 1,val-sphere-D25
 ";
 
 fn make(s: &Scenario, targets: &[&str]) -> std::process::Output {
@@ -71,7 +73,11 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
     for id in ["mu-sphere-D25-m0.3-s1", "mu-sphere-D25-m0.3-s2", "load-sphere-D25-two-columns-s1"] {
         assert!(page.contains(id), "{id} not listed as missing:\n{page}");
     }
+    // The same_as row is the validation bed's seed 1, counted once.
     assert!(page.contains("Beds finished: 4 of 7"), "{page}");
+    let scheme1 = page.lines().find(|l| l.starts_with("| load-sphere-D25-one-column (the beds of val-sphere-D25)"));
+    let v1 = json(s.file("out/runs/val-sphere-D25-s1.summary.json"))["bulk_porosity"].as_f64().unwrap();
+    assert!(scheme1.is_some_and(|l| l.contains(&format!("{v1:.4} ± 0.0000"))), "{scheme1:?} {v1}\n{page}");
     assert!(!page.contains("val-sphere-D25-s1,") && !page.contains("cor-sphere-D25-c0.3-s1,"), "{page}");
 
     // summary.json: exactly the issue's schema.

@@ -59,6 +59,18 @@ impl Group {
     }
 }
 
+/// Every finished bed once, in table order (a `same_as` row shares its beds with another).
+pub fn distinct_beds(groups: &[Group]) -> Vec<&BedResult> {
+    let mut seen = std::collections::HashSet::new();
+    groups.iter().flat_map(|g| g.beds.iter()).filter(|b| seen.insert(b.id.as_str())).collect()
+}
+
+/// Every missing bed's id once, in table order.
+pub fn distinct_missing(groups: &[Group]) -> Vec<&str> {
+    let mut seen = std::collections::HashSet::new();
+    groups.iter().flat_map(|g| g.missing.iter().map(String::as_str)).filter(|id| seen.insert(*id)).collect()
+}
+
 /// Reads every row's beds from the first of `runs` that holds each.
 pub fn collect(rows: &[Row], runs: &[&Path], repeats: Option<u32>) -> Result<Vec<Group>> {
     let mut groups = Vec::new();

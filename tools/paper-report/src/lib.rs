@@ -110,7 +110,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         }
     }
 
-    let compute_seconds: f64 = groups.iter().flat_map(|g| g.beds.iter()).map(|b| b.seconds).sum();
+    let compute_seconds: f64 = collect::distinct_beds(&groups).iter().map(|b| b.seconds).sum();
     let machine = summary::machine();
     let shape_refs: Vec<(&str, &[analysis::TubeResult], Option<f64>)> =
         validation.iter().map(|(s, t, m)| (s.name(), t.as_slice(), *m)).collect();
@@ -151,8 +151,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         }
     }
     pellet_io::write_outputs(&outputs)?;
-    let done: usize = groups.iter().map(|g| g.beds.len()).sum();
-    let missing: usize = groups.iter().map(|g| g.missing.len()).sum();
+    let done = collect::distinct_beds(&groups).len();
+    let missing = collect::distinct_missing(&groups).len();
     println!("paper-report: {done} beds finished, {missing} missing; wrote {}", out.join("README.md").display());
     Ok(Outcome::Success)
 }

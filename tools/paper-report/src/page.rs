@@ -71,15 +71,10 @@ impl Page<'_> {
     }
 
     fn status(&self, o: &mut String) {
-        let done: usize = self.groups.iter().map(|g| g.beds.len()).sum();
-        let missing: Vec<&str> = self.groups.iter().flat_map(|g| g.missing.iter().map(String::as_str)).collect();
-        let unsettled: Vec<&str> = self
-            .groups
-            .iter()
-            .flat_map(|g| g.beds.iter())
-            .filter(|b| b.settled == Some(false))
-            .map(|b| b.id.as_str())
-            .collect();
+        let beds = crate::collect::distinct_beds(self.groups);
+        let done = beds.len();
+        let missing = crate::collect::distinct_missing(self.groups);
+        let unsettled: Vec<&str> = beds.iter().filter(|b| b.settled == Some(false)).map(|b| b.id.as_str()).collect();
         let _ = writeln!(o, "## Status\n");
         let _ = writeln!(o, "- Beds finished: {done} of {}.", done + missing.len());
         if missing.is_empty() {
@@ -101,8 +96,7 @@ impl Page<'_> {
             self.compute_seconds,
             self.compute_seconds / 3600.0
         );
-        let untimed: Vec<&str> =
-            self.groups.iter().flat_map(|g| g.beds.iter()).filter(|b| !b.pack_timed).map(|b| b.id.as_str()).collect();
+        let untimed: Vec<&str> = beds.iter().filter(|b| !b.pack_timed).map(|b| b.id.as_str()).collect();
         if !untimed.is_empty() {
             let _ = writeln!(
                 o,
@@ -215,10 +209,13 @@ impl Page<'_> {
                 }
                 _ => ("missing".into(), "—".into()),
             };
+            let bed = match &g.row.same_as {
+                Some(other) => format!("{} (the beds of {other})", g.row.config),
+                None => g.row.config.clone(),
+            };
             let _ = writeln!(
                 o,
-                "| {} | {} | {} | {} (`{}`) | {} | {eps} | {dixon} | {paper} |",
-                g.row.config,
+                "| {bed} | {} | {} | {} (`{}`) | {} | {eps} | {dixon} | {paper} |",
                 g.row.shape.name(),
                 g.row.tube_diameter_mm,
                 g.row.label,

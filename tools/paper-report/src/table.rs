@@ -26,6 +26,10 @@ pub struct Row {
     pub scheme: String,
     /// Free text for tables (e.g. the paper's scheme name).
     pub label: String,
+    /// Another row whose beds are this row's, seed for seed, because their cases are the same
+    /// (the loading study's scheme 1 is the validation bed of its tube): its beds are run once
+    /// and counted once.
+    pub same_as: Option<String>,
 }
 
 /// The columns the report needs; the others are pack's and Make's.
@@ -82,7 +86,26 @@ pub fn parse(text: &str, name: &str) -> Result<Vec<Row>> {
             friction: num("friction")?,
             scheme: cell("scheme").to_string(),
             label: cells.get(idx("label").unwrap_or(usize::MAX)).copied().unwrap_or("").to_string(),
+            same_as: cells.get(idx("same_as").unwrap_or(usize::MAX)).filter(|c| !c.is_empty()).map(|c| c.to_string()),
         });
+    }
+    for row in &rows {
+        if let Some(other) = &row.same_as {
+            let Some(o) = rows.iter().find(|r| &r.config == other) else {
+                bail!("{name}: {}: same_as names {other:?}, which is not a row of the table", row.config);
+            };
+            if o.same_as.is_some()
+                || o.shape != row.shape
+                || o.tube_diameter_mm != row.tube_diameter_mm
+                || o.seeds < row.seeds
+            {
+                bail!(
+                    "{name}: {}: same_as {other:?} must be a row of the same shape and tube with at least {} seeds and no same_as of its own",
+                    row.config,
+                    row.seeds
+                );
+            }
+        }
     }
     Ok(rows)
 }
@@ -92,9 +115,9 @@ pub fn seeds(row: &Row, repeats: Option<u32>) -> Vec<u32> {
     (1..=repeats.map_or(row.seeds, |r| r.min(row.seeds))).collect()
 }
 
-/// A bed's id: `<config>-s<seed>`.
+/// A bed's id: `<config>-s<seed>`, with the config of `same_as` if the row has one.
 pub fn bed_id(row: &Row, seed: u32) -> String {
-    format!("{}-s{seed}", row.config)
+    format!("{}-s{seed}", row.same_as.as_deref().unwrap_or(&row.config))
 }
 
 #[cfg(test)]
@@ -125,5 +148,23 @@ mod tests {
         let dup = TABLE.replace("b,cor", "a,cor");
         assert!(parse(&dup, "t").unwrap_err().to_string().contains("repeated"));
         assert!(parse("config,study\n", "t").unwrap_err().to_string().contains("lacks the column"));
+    }
+
+    #[test]
+    fn same_as_rows_name_the_other_rows_beds() {
+        let table = "config,study,shape,tube_diameter_mm,seeds,scheme,cor,friction,label,same_as\n\
+            v,validation,sphere,31,3,one-column,,,Table 3,\n\
+            l,loading,sphere,31,1,one-column,,,scheme 1,v\n";
+        let rows = parse(table, "t").unwrap();
+        assert_eq!((rows[0].same_as.as_deref(), rows[1].same_as.as_deref()), (None, Some("v")));
+        assert_eq!((bed_id(&rows[0], 1), bed_id(&rows[1], 1)), ("v-s1".to_string(), "v-s1".to_string()));
+        for (from, to) in [
+            ("scheme 1,v", "scheme 1,w"),
+            ("l,loading,sphere,31", "l,loading,sphere,32"),
+            ("l,loading,sphere,31,1", "l,loading,sphere,31,4"),
+        ] {
+            let bad = table.replace(from, to);
+            assert!(parse(&bad, "t").unwrap_err().to_string().contains("same_as"), "{bad}");
+        }
     }
 }
