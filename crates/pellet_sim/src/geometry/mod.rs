@@ -7,5 +7,6 @@ pub mod contact_shape_wall;
 pub mod contact_sphere_sphere;
 pub mod contact_sphere_wall;
 pub mod narrow_phase;
+pub mod pair_cache;
 pub mod samples;
 pub mod sdf;

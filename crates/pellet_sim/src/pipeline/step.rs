@@ -14,9 +14,9 @@ use crate::dynamics::resting::resting_phase;
 use crate::dynamics::rows::relative_velocity;
 use crate::dynamics::stabilize::project_positions;
 use crate::error::SimError;
-use crate::geometry::broad_phase::BroadPhase;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
 use crate::geometry::narrow_phase::{collide_feature, collide_pair, collide_wall, Pellet};
+use crate::geometry::pair_cache::PairCache;
 use crate::geometry::samples::GeometryCache;
 use crate::math::{Real, Vec3};
 use crate::shape::BodyType;
@@ -35,7 +35,7 @@ pub struct ContactRecord {
 /// Scratch buffers and caches reused across steps. Not part of the simulation state.
 #[derive(Debug, Default, Clone)]
 pub struct Pipeline {
-    broad: BroadPhase,
+    broad: PairCache,
     /// Last substep's resting forces by contact key: normal force (N) and friction force on
     /// body A (world, N), the warm start of the next resting phase.
     warm: Vec<(ContactKey, Real, Vec3)>,
