@@ -76,10 +76,19 @@ $(CASES)/%.toml: $(TABLE) $(HERE)/case.awk | $(CASES)
 
 # pack exits 2 when --max-time is reached before the bed settles; the
 # trajectory is complete then and kept (settle-check reports it unsettled).
+# Any other failure (an interrupt, a kill) fails the recipe and leaves the
+# run to `pack --resume`: the next `make` goes on from its last checkpoint,
+# and pack.time adds up the legs. A partial run older than its case file is
+# another bed's and is removed first; without a partial run the time starts
+# from zero.
+PARTIAL = $(RUNS)/$*.run.mcap $(RUNS)/$*.run.mcap.part $(RUNS)/$*.run.mcap.resume
 $(RUNS)/%.mcap: $(CASES)/%.toml $(PELLETS) | $(RUNS)
-	rm -f $(RUNS)/$*.run.mcap
-	sh $(HERE)/timed.sh $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --quiet \
-	  || test -f $(RUNS)/$*.run.mcap
+	partial=; for f in $(PARTIAL); do \
+	  if [ -f $$f ] && [ $< -nt $$f ]; then rm -f $$f; fi; if [ -f $$f ]; then partial=1; fi; done; \
+	  if [ -z "$$partial" ]; then rm -f $(RUNS)/$*.pack.time; fi
+	sh $(HERE)/timed.sh -a $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --resume --quiet \
+	  2> $(RUNS)/$*.pack.err || { cat $(RUNS)/$*.pack.err >&2; grep -q 'did not settle within --max-time' $(RUNS)/$*.pack.err; }
+	rm -f $(RUNS)/$*.pack.err
 	mv $(RUNS)/$*.run.mcap $@
 
 # settle-check exits 1 for a bed that did not settle: its last frame is kept.

@@ -54,9 +54,14 @@
 //!   w, x, y, z, optional velocities);
 //! - channel `/pack/energy`, schema `packbed.EnergyRecord.v1`: an
 //!   [`EnergyRecord`] every step (kinetic, potential and dissipated energies
-//!   in J, contact counts, solver residual, max penetration in m).
+//!   in J, contact counts, solver residual, max penetration in m);
+//! - channel `/pack/checkpoint`, schema `packbed.Checkpoint.v1`: now and
+//!   then (`pack --checkpoint-every`, simulated seconds) and at the end, the
+//!   complete state of the run (bodies with momenta, warm-start forces,
+//!   loader, settle history; `pellet_pack::Checkpoint`), each closing its
+//!   chunk; `pack --resume` continues from the last one, bit for bit.
 //!
-//! Both channels use message encoding `x-packbed-bincode2-v1`: bincode 2
+//! The channels use message encoding `x-packbed-bincode2-v1`: bincode 2
 //! with the standard configuration and fixed-width little-endian integers,
 //! serde layout of the Rust types. Log times are simulated nanoseconds.
 //! `pack` writes to `<name>.part` and renames it when done; a killed run
@@ -92,8 +97,8 @@ pub use packing_file::{
 pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELLET_FORMAT_VERSION, PELLET_MAGIC};
 pub use poses_csv::decode_poses_csv;
 pub use trajectory::{
-    read_trajectory, EnergyRecord, Frame, Trajectory, TrajectoryHeader, TrajectoryWriter, ENERGY_TOPIC,
-    MESSAGE_ENCODING, POSES_TOPIC, RUN_METADATA, TRAJECTORY_PROFILE,
+    decode_message, encode_message, read_trajectory, EnergyRecord, Frame, Trajectory, TrajectoryHeader,
+    TrajectoryWriter, CHECKPOINT_TOPIC, ENERGY_TOPIC, MESSAGE_ENCODING, POSES_TOPIC, RUN_METADATA, TRAJECTORY_PROFILE,
 };
 
 /// What can go wrong reading or writing packbed's files.

@@ -21,6 +21,11 @@ pub const MESSAGE_ENCODING: &str = "x-packbed-bincode2-v1";
 pub const POSES_TOPIC: &str = "/pack/poses";
 /// Topic of the per-step energy records.
 pub const ENERGY_TOPIC: &str = "/pack/energy";
+/// Topic of the run checkpoints (`pack --resume` continues from the last one).
+pub const CHECKPOINT_TOPIC: &str = "/pack/checkpoint";
+/// Schema name of the checkpoints: the driver's state, opaque to this crate, encoded with
+/// [`encode_message`].
+pub const CHECKPOINT_SCHEMA: &str = "packbed.Checkpoint.v1";
 /// Schema name of [`Frame`].
 pub const FRAME_SCHEMA: &str = "packbed.Frame.v1";
 /// Schema name of [`EnergyRecord`].
@@ -89,6 +94,18 @@ impl EnergyRecord {
 
 use crate::framed::config;
 
+/// Encodes a value as packbed's channels do ([`MESSAGE_ENCODING`]).
+pub fn encode_message<T: Serialize>(value: &T) -> Result<Vec<u8>, IoError> {
+    let mut buf = Vec::new();
+    encode(value, &mut buf)?;
+    Ok(buf)
+}
+
+/// Decodes a message written by [`encode_message`]; `what` names it in the error.
+pub fn decode_message<T: serde::de::DeserializeOwned>(bytes: &[u8], path: &str, what: &str) -> Result<T, IoError> {
+    decode(bytes, path, what)
+}
+
 fn encode<T: Serialize>(value: &T, buf: &mut Vec<u8>) -> Result<(), IoError> {
     buf.clear();
     bincode::serde::encode_into_std_write(value, buf, config())
@@ -133,8 +150,10 @@ pub struct TrajectoryWriter {
     copy_over: bool,
     poses_channel: u16,
     energy_channel: u16,
+    checkpoint_channel: u16,
     poses_sequence: u32,
     energy_sequence: u32,
+    checkpoint_sequence: u32,
     buf: Vec<u8>,
     viewer: Option<Viewer>,
 }
@@ -215,9 +234,14 @@ impl TrajectoryWriter {
         let energy_schema = writer
             .add_schema(ENERGY_SCHEMA, MESSAGE_ENCODING, b"packbed EnergyRecord: see the pellet_io crate documentation")
             .map_err(&err)?;
+        let checkpoint_schema = writer
+            .add_schema(CHECKPOINT_SCHEMA, MESSAGE_ENCODING, b"packbed pack-run checkpoint: see the pellet_pack crate")
+            .map_err(&err)?;
         let none = BTreeMap::new();
         let poses_channel = writer.add_channel(frame_schema, POSES_TOPIC, MESSAGE_ENCODING, &none).map_err(&err)?;
         let energy_channel = writer.add_channel(energy_schema, ENERGY_TOPIC, MESSAGE_ENCODING, &none).map_err(&err)?;
+        let checkpoint_channel =
+            writer.add_channel(checkpoint_schema, CHECKPOINT_TOPIC, MESSAGE_ENCODING, &none).map_err(&err)?;
         Ok(TrajectoryWriter {
             writer: Some(writer),
             part_path,
@@ -225,8 +249,10 @@ impl TrajectoryWriter {
             copy_over,
             poses_channel,
             energy_channel,
+            checkpoint_channel,
             poses_sequence: 0,
             energy_sequence: 0,
+            checkpoint_sequence: 0,
             buf: Vec::with_capacity(1 << 16),
             viewer: None,
         })
@@ -315,6 +341,16 @@ impl TrajectoryWriter {
         self.write(self.energy_channel, self.energy_sequence, record.time_s)
     }
 
+    /// Appends a checkpoint (bytes from [`encode_message`]) taken at `time_s` and closes the
+    /// chunk, so that a killed run can be continued from it.
+    pub fn write_checkpoint(&mut self, time_s: f64, bytes: &[u8]) -> Result<(), IoError> {
+        self.buf.clear();
+        self.buf.extend_from_slice(bytes);
+        self.checkpoint_sequence += 1;
+        self.write(self.checkpoint_channel, self.checkpoint_sequence, time_s)?;
+        self.flush()
+    }
+
     /// Closes the current chunk so that everything written so far survives a kill.
     pub fn flush(&mut self) -> Result<(), IoError> {
         let err = mcap_error(&self.part_path);
@@ -377,6 +413,8 @@ pub struct Trajectory {
     pub frames: Vec<Frame>,
     /// Why reading stopped early, for a truncated file (a killed run).
     pub truncated: Option<String>,
+    /// The last checkpoint: its time (s) and bytes (see [`TrajectoryWriter::write_checkpoint`]).
+    pub checkpoint: Option<(f64, Vec<u8>)>,
 }
 
 /// Reads a whole trajectory from its bytes. A truncated file (a killed
@@ -400,6 +438,7 @@ pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> 
         energy: Vec::new(),
         frames: Vec::new(),
         truncated: None,
+        checkpoint: None,
     };
     let mut topics: BTreeMap<u16, String> = BTreeMap::new();
     let mut profile_ok = false;
@@ -433,6 +472,7 @@ pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> 
             Record::Message { header, data } => match topics.get(&header.channel_id).map(String::as_str) {
                 Some(POSES_TOPIC) => out.frames.push(decode(&data, path, "pose")?),
                 Some(ENERGY_TOPIC) => out.energy.push(decode(&data, path, "energy")?),
+                Some(CHECKPOINT_TOPIC) => out.checkpoint = Some((header.log_time as f64 * 1e-9, data.into_owned())),
                 _ => {}
             },
             _ => {}

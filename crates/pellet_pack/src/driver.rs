@@ -12,6 +12,9 @@ use pellet_sim::{
     WallMaterial, World,
 };
 
+use serde::{Deserialize, Serialize};
+
+use crate::checkpoint::{Checkpoint, RunState, CHECKPOINT_VERSION};
 use crate::config::{Amount, ClampRule, ContactModel, PackConfig};
 use crate::loading::{FeedParams, Feeder, LoadingScheme};
 
@@ -38,6 +41,10 @@ pub trait RunSink {
     fn should_stop(&self) -> bool {
         false
     }
+    /// A checkpoint taken at simulated time `time_s` (s): bytes of a [`Checkpoint`].
+    fn checkpoint(&mut self, _time_s: f64, _bytes: &[u8]) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 /// Progress of a run.
@@ -56,7 +63,7 @@ pub struct Progress {
 }
 
 /// How a run ended.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Ending {
     /// The settle test passed.
     Settled,
@@ -228,8 +235,20 @@ pub fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_
     Ok((world, type_id))
 }
 
-/// Runs a pack.
+/// Runs a pack from the start.
 pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -> Result<RunSummary, PackError> {
+    resume_pack(config, pellet, sink, None)
+}
+
+/// Runs a pack from the start, or continues one from a [`Checkpoint`] of a run with the same
+/// configuration (see [`crate::checkpoint::resume_conflicts`]) and pellet: then the sink gets
+/// what the uninterrupted run would have written after the checkpoint, bit for bit.
+pub fn resume_pack(
+    config: &PackConfig,
+    pellet: &Pellet,
+    sink: &mut impl RunSink,
+    from: Option<Checkpoint>,
+) -> Result<RunSummary, PackError> {
     let (mut world, type_id) = new_world(config, pellet)?;
     let tube_radius = 0.5 * config.tube_diameter_m;
     let dp = pellet.properties.equivalent_diameter;
@@ -253,58 +272,86 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
     let mass = config.density_kg_m3 * pellet.properties.volume;
     let spheres = pellet.is_sphere();
     let mut pipeline = Pipeline::new();
-    let mut history: Vec<EnergySample> = Vec::new();
-    let mut feeding = true;
-    // The batch scheme places every pellet at t = 0 (config.rs requires a count for it).
-    if let (LoadingScheme::Batch, Amount::Count(n)) = (config.scheme, config.amount) {
-        for spawn in feeder.batch(n) {
-            world
-                .add_body(type_id, spawn.position, spawn.orientation, Vec3::zeros(), Vec3::zeros())
-                .map_err(|e| PackError::Engine { time_s: 0.0, message: e.to_string() })?;
+    let mut run = RunState {
+        feeding: true,
+        next_entry: 0.0,
+        next_frame: 0.0,
+        next_checkpoint: config.checkpoint_every_s,
+        max_penetration: 0.0,
+        substeps: 0,
+        history: Vec::new(),
+        slow_since: Vec::new(),
+        ending: None,
+    };
+    match from {
+        Some(c) => {
+            let time_s = c.time_s();
+            world.restore(c.world).map_err(|e| PackError::Engine { time_s, message: e.to_string() })?;
+            pipeline = Pipeline::with_warm_forces(&c.warm);
+            feeder.set_state(c.feeder);
+            run = RunState { ending: None, ..c.run };
         }
-        feeding = false;
+        None => {
+            // The batch scheme places every pellet at t = 0 (config.rs requires a count for it).
+            if let (LoadingScheme::Batch, Amount::Count(n)) = (config.scheme, config.amount) {
+                for spawn in feeder.batch(n) {
+                    world
+                        .add_body(type_id, spawn.position, spawn.orientation, Vec3::zeros(), Vec3::zeros())
+                        .map_err(|e| PackError::Engine { time_s: 0.0, message: e.to_string() })?;
+                }
+                run.feeding = false;
+            }
+        }
     }
-    let mut next_entry = 0.0;
-    let mut next_frame = 0.0;
-    let mut max_penetration: f64 = 0.0;
-    let mut substeps = 0u64;
     let mut settle = check_settled(&[], &criteria(config, 0, mass, dp, spheres));
-    // Since when each pellet has been slower than RESTING_SPEED.
-    let mut slow_since: Vec<Option<f64>> = Vec::new();
+    let checkpoint = |world: &World, pipeline: &Pipeline, feeder: &Feeder, run: &RunState| Checkpoint {
+        version: CHECKPOINT_VERSION,
+        world: world.state(),
+        warm: pipeline.warm_forces(),
+        feeder: feeder.state(),
+        run: run.clone(),
+    };
     let ending = loop {
         let t = world.time();
-        let top = bed_top(&world, &slow_since);
+        if config.checkpoint_every_s > 0.0 && t + 1e-12 >= run.next_checkpoint {
+            while run.next_checkpoint <= t + 1e-12 {
+                run.next_checkpoint += config.checkpoint_every_s;
+            }
+            let c = checkpoint(&world, &pipeline, &feeder, &run);
+            sink.checkpoint(t, &c.encode()?).map_err(PackError::Sink)?;
+        }
+        let top = bed_top(&world, &run.slow_since);
         // Feed: one pellet at a time, once the entry point is clear.
-        if feeding {
+        if run.feeding {
             let full = match config.amount {
                 Amount::Count(n) => world.bodies().len() as u32 >= n,
                 Amount::FillHeight(h) => top >= h,
             };
             if full {
-                feeding = false;
-            } else if t >= next_entry {
+                run.feeding = false;
+            } else if t >= run.next_entry {
                 let spawn = feeder.next(top);
                 if entry_is_clear(&world, &spawn.position, r_b) {
                     world
                         .add_body(type_id, spawn.position, spawn.orientation, Vec3::zeros(), Vec3::zeros())
                         .map_err(|e| PackError::Engine { time_s: t, message: e.to_string() })?;
-                    next_entry = t + config.spacing_s;
+                    run.next_entry = t + config.spacing_s;
                 }
             }
         }
-        if t + 1e-12 >= next_frame {
+        if t + 1e-12 >= run.next_frame {
             sink.frame(&frame(&world, config.record_velocities)).map_err(PackError::Sink)?;
-            next_frame += config.record_every_s;
+            run.next_frame += config.record_every_s;
         }
         let report = world
             .step(STEP_S, &mut pipeline)
             .map_err(|e| PackError::Engine { time_s: world.time(), message: e.to_string() })?;
-        max_penetration = max_penetration.max(report.max_penetration);
-        substeps += report.substeps as u64;
+        run.max_penetration = run.max_penetration.max(report.max_penetration);
+        run.substeps += report.substeps as u64;
         let ledger = world.energy();
         let max_speed = world.bodies().iter().map(|b| b.velocity().norm()).fold(0.0, f64::max);
-        slow_since.resize(world.bodies().len(), None);
-        for (since, body) in slow_since.iter_mut().zip(world.bodies()) {
+        run.slow_since.resize(world.bodies().len(), None);
+        for (since, body) in run.slow_since.iter_mut().zip(world.bodies()) {
             *since = if body.velocity().norm() < RESTING_SPEED { since.or(Some(world.time())) } else { None };
         }
         let record = EnergyRecord {
@@ -325,13 +372,16 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
             max_speed_m_s: max_speed,
         };
         sink.energy(&record).map_err(PackError::Sink)?;
-        history.push(EnergySample {
+        run.history.push(EnergySample {
             time_s: record.time_s,
             kinetic_j: record.kinetic_j(),
             kinetic_translational_j: record.kinetic_translational_j,
             max_speed_m_s: max_speed,
             pellets: record.pellets,
         });
+        // Only the recent past matters to the test: keep its cost and the checkpoints flat.
+        let from = run.history.partition_point(|s| s.time_s < record.time_s - 2.0 * config.settle_window_s);
+        run.history.drain(..from);
         sink.progress(&Progress {
             time_s: record.time_s,
             pellets: record.pellets,
@@ -339,10 +389,8 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
             kinetic_j: record.kinetic_j(),
             bed_top_m: top,
         });
-        if !feeding {
-            // Only the recent past matters to the test: keep its cost flat.
-            let from = history.partition_point(|s| s.time_s < record.time_s - 2.0 * config.settle_window_s);
-            settle = check_settled(&history[from..], &criteria(config, record.pellets, mass, dp, spheres));
+        if !run.feeding {
+            settle = check_settled(&run.history, &criteria(config, record.pellets, mass, dp, spheres));
             if settle.settled {
                 break Ending::Settled;
             }
@@ -354,14 +402,18 @@ pub fn run_pack(config: &PackConfig, pellet: &Pellet, sink: &mut impl RunSink) -
             break Ending::Interrupted;
         }
     };
+    // The state at the end, to go on from (a longer --max-time, an interrupted run).
+    run.ending = Some(ending.clone());
+    let c = checkpoint(&world, &pipeline, &feeder, &run);
+    sink.checkpoint(world.time(), &c.encode()?).map_err(PackError::Sink)?;
     sink.frame(&frame(&world, config.record_velocities)).map_err(PackError::Sink)?;
     Ok(RunSummary {
         ending,
         time_s: world.time(),
         pellets: world.bodies().len() as u32,
         settle,
-        max_penetration_m: max_penetration,
-        substeps,
+        max_penetration_m: run.max_penetration,
+        substeps: run.substeps,
     })
 }
 

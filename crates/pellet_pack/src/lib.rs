@@ -5,17 +5,20 @@
 //!   random disturbances of position and orientation;
 //! - [`driver`]: the run itself — feeding, stepping the engine, streaming
 //!   frames and energy records to a sink, stopping when settled;
+//! - [`checkpoint`]: the state that continues a run bit for bit (`pack --resume`);
 //! - [`config`]: every parameter of a `pack` run, with the paper's
 //!   validation values as defaults, loadable from a TOML or JSON case file.
 #![deny(missing_docs)]
 
+pub mod checkpoint;
 pub mod config;
 pub mod driver;
 pub mod loading;
 
+pub use checkpoint::{resume_conflicts, Checkpoint, CHECKPOINT_VERSION};
 pub use config::{Amount, ClampRule, ContactModel, PackConfig, PackOptions};
-pub use driver::{check_setup, engine_params, run_pack, Ending, PackError, Progress, RunSink, RunSummary};
-pub use loading::{batch_height_per_pellet, Feeder, LoadingScheme, Spawn};
+pub use driver::{check_setup, engine_params, resume_pack, run_pack, Ending, PackError, Progress, RunSink, RunSummary};
+pub use loading::{batch_height_per_pellet, Feeder, FeederState, LoadingScheme, Spawn};
 
 /// A configuration value out of range; the message names the flag and the range.
 #[derive(Debug, thiserror::Error)]

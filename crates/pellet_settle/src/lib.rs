@@ -35,7 +35,7 @@
 use serde::{Deserialize, Serialize};
 
 /// One sample of the run's energy history.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct EnergySample {
     /// Simulated time (s).
     pub time_s: f64,

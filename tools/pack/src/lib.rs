@@ -8,14 +8,16 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context};
+
+mod resume;
 use clap::Parser;
 
 use pellet_cli::Outcome;
 use pellet_io::foxglove::ViewerShape;
 use pellet_io::{EnergyRecord, Frame, Provenance, TrajectoryHeader, TrajectoryWriter};
 use pellet_pack::{
-    check_setup, run_pack, Amount, ClampRule, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions, Progress,
-    RunSink,
+    check_setup, resume_pack, Amount, ClampRule, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions,
+    Progress, RunSink,
 };
 
 const EXAMPLES: &str = "\
@@ -25,13 +27,15 @@ Examples:
   pack --case cases/cyl-N7.toml --seed 3 -o bed.mcap      (flags override the case file)
   pack --pellet r.pellet --tube-diameter 40.45 --count 200 --scheme four-columns --cor 0.6 -o r.mcap
   pack --pellet s.pellet --tube-diameter 100 --count 1000 --scheme batch -o t14.mcap
+  pack --case cases/cyl-N7.toml -o bed.mcap --resume      (go on after a kill or an interrupt)
+  pack --case cases/cyl-N7.toml -o bed.mcap --resume --max-time 60   (or past the time limit)
 
 A case file (TOML, or JSON starting with '{') holds any of the flags below,
 spelled the same: tube-diameter = 69.83, fill-height = 120, scheme = \"sock\", ...
 Relative paths in it (pellet, output) are relative to the case file's directory.
 Lengths in mm, times in s, angles in degrees. Then: settle-check bed.mcap -o bed.packing.
 Exit codes: 0 settled, 2 error (also: time limit reached before settling, or interrupted;
-the trajectory is complete and readable in every case).";
+the trajectory is complete and readable in every case, and --resume continues it).";
 
 /// Drop pellets into a tube with the hard-contact rigid-body engine until the
 /// bed settles, streaming the trajectory to an MCAP file.
@@ -128,6 +132,16 @@ pub struct Args {
     /// Settle-test bound on the fastest pellet's speed (m/s) [default: 0.001].
     #[arg(long, value_name = "M/S")]
     max_speed: Option<f64>,
+    /// Interval between checkpoints in the trajectory, simulated seconds (0: only at the end) [default: 1].
+    #[arg(long, value_name = "S")]
+    checkpoint_every: Option<f64>,
+    /// Continue the run of this output from its last checkpoint: a killed run (`<output>.part`), or
+    /// one that was interrupted or reached its --max-time (`<output>`; give a larger --max-time).
+    /// The settings must be the run's own (--max-time, --checkpoint-every and --foxglove may change).
+    /// The result equals the uninterrupted run frame for frame. Without a checkpoint to continue
+    /// from, the run starts over.
+    #[arg(long)]
+    resume: bool,
     /// No progress output.
     #[arg(short, long)]
     quiet: bool,
@@ -197,6 +211,7 @@ impl Args {
             density: self.density,
             drop_height: self.drop_height,
             record_every: self.record_every,
+            checkpoint_every: self.checkpoint_every,
             max_time: self.max_time,
             scheme: self.scheme.map(Into::into),
             tilt: self.tilt,
@@ -260,10 +275,29 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     };
     // Check everything the engine checks before creating the output.
     check_setup(&config, &pellet)?;
+    let source = match args.resume {
+        true => resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?,
+        false => None,
+    };
     let mut writer = TrajectoryWriter::create(Path::new(&output), &header)?;
     if config.foxglove {
         writer.enable_viewer(&tube, viewer_tube_height(&config, &pellet), vec![ViewerShape::of(&pellet)])?;
     }
+    let from = match source {
+        Some(source) => {
+            let checkpoint = source.copy_into(&mut writer)?;
+            if !args.quiet {
+                eprintln!("pack: resuming at t = {:.3} s", checkpoint.time_s());
+            }
+            Some(checkpoint)
+        }
+        None => {
+            if args.resume && !args.quiet {
+                eprintln!("pack: no checkpoint of this run to resume from; starting at t = 0");
+            }
+            None
+        }
+    };
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();
@@ -271,7 +305,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
     }
     let mut sink = McapSink::new(writer, stop, args.quiet);
-    let result = run_pack(&config, &pellet, &mut sink);
+    let result = resume_pack(&config, &pellet, &mut sink, from);
     let McapSink { writer, bar, .. } = sink;
     if let Some(bar) = bar {
         bar.finish_and_clear();
@@ -393,5 +427,9 @@ impl RunSink for McapSink {
 
     fn should_stop(&self) -> bool {
         self.stop.load(Ordering::SeqCst)
+    }
+
+    fn checkpoint(&mut self, time_s: f64, bytes: &[u8]) -> Result<(), String> {
+        self.writer.write_checkpoint(time_s, bytes).map_err(|e| e.to_string())
     }
 }

@@ -219,3 +219,94 @@ fn case_file_paths_are_relative_to_the_case_file() {
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(dir.path().join("top.mcap").exists());
 }
+
+fn read(dir: &Path, name: &str) -> pellet_io::Trajectory {
+    let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    pellet_io::read_trajectory(&bytes, name).unwrap()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Six spheres fed one by one into a 30 mm tube until `max_time`, with checkpoints every 0.1 s.
+fn resumable(max_time: &str, output: &str) -> Vec<String> {
+    let mut a: Vec<String> = SHORT.iter().map(|s| s.to_string()).collect();
+    let at = a.iter().position(|s| s == "--max-time").unwrap();
+    a[at + 1] = max_time.into();
+    let count = a.iter().position(|s| s == "--count").unwrap();
+    a[count + 1] = "6".into();
+    a.extend(["--checkpoint-every", "0.1", "-o", output].map(String::from));
+    a
+}
+
+fn pack_owned(dir: &Path, args: &[String]) -> Output {
+    pack(dir, &args.iter().map(String::as_str).collect::<Vec<_>>())
+}
+
+/// A run that reached its --max-time goes on with a larger one; a killed run (a `.part` cut
+/// in the middle of a chunk) goes on from its last checkpoint. Both give the uninterrupted
+/// run's trajectory: every frame and energy record equal.
+#[test]
+fn resume_continues_a_stopped_or_killed_run_exactly() {
+    let dir = setup();
+    let d = dir.path();
+    assert_eq!(pack_owned(d, &resumable("0.9", "whole.mcap")).status.code(), Some(2));
+    let whole = read(d, "whole.mcap");
+    assert!(whole.checkpoint.is_some());
+
+    // Past the time limit.
+    assert_eq!(pack_owned(d, &resumable("0.45", "a.mcap")).status.code(), Some(2));
+    let mut again = resumable("0.9", "a.mcap");
+    again.push("--resume".into());
+    let out = pack_owned(d, &again);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let a = read(d, "a.mcap");
+    assert_eq!(a.frames, whole.frames);
+    assert_eq!(a.energy, whole.energy);
+    assert!(a.run["args"].contains("--resume"));
+
+    // Killed: the complete file cut at 60 % of its bytes, under the name a killed run leaves.
+    let bytes = std::fs::read(d.join("whole.mcap")).unwrap();
+    std::fs::write(d.join("k.mcap.part"), &bytes[..bytes.len() * 6 / 10]).unwrap();
+    let cut = read(d, "k.mcap.part");
+    assert!(cut.truncated.is_some() && cut.checkpoint.is_some());
+    let mut again = resumable("0.9", "k.mcap");
+    again.push("--resume".into());
+    let out = pack_owned(d, &again);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let k = read(d, "k.mcap");
+    assert_eq!(k.frames, whole.frames);
+    assert_eq!(k.energy, whole.energy);
+    assert!(!d.join("k.mcap.part").exists() && !d.join("k.mcap.resume").exists());
+}
+
+/// --resume refuses another run's file and a settled run, and starts over when there is
+/// nothing to resume.
+#[test]
+fn resume_refuses_what_it_cannot_continue() {
+    let dir = setup();
+    let d = dir.path();
+    assert_eq!(pack_owned(d, &resumable("0.3", "r.mcap")).status.code(), Some(2));
+    let mut other = resumable("0.6", "r.mcap");
+    other.extend(["--cor", "0.5", "--resume"].map(String::from));
+    let out = pack_owned(d, &other);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(err.contains("cannot resume") && err.contains("cor: 0.9 → 0.5"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    // The file is untouched.
+    assert!(read(d, "r.mcap").checkpoint.is_some());
+
+    let mut same = resumable("0.3", "r.mcap");
+    same.push("--resume".into());
+    let err = stderr(&pack_owned(d, &same));
+    assert!(err.contains("give a larger --max-time"), "{err}");
+
+    let mut fresh = resumable("0.3", "new.mcap");
+    fresh.push("--resume".into());
+    fresh.retain(|a| a != "--quiet");
+    let out = pack_owned(d, &fresh);
+    assert!(stderr(&out).contains("starting at t = 0"), "{}", stderr(&out));
+    assert_eq!(read(d, "new.mcap").frames, read(d, "r.mcap").frames);
+}

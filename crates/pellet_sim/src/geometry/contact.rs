@@ -2,9 +2,10 @@
 
 use crate::container::WallId;
 use crate::math::{Real, Vec3};
+use serde::{Deserialize, Serialize};
 
 /// The other side of a contact.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 pub enum Counterpart {
     /// Another dynamic body (index).
     Body(usize),
@@ -55,7 +56,7 @@ pub enum NormalOwner {
 }
 
 /// Persistent identity of a contact point, for warm starting (physics.md §6.6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct ContactKey {
     /// Body A.
     pub a: u32,

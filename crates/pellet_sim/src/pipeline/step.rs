@@ -20,6 +20,7 @@ use crate::geometry::pair_cache::PairCache;
 use crate::geometry::samples::GeometryCache;
 use crate::math::{Real, Vec3};
 use crate::shape::BodyType;
+use serde::{Deserialize, Serialize};
 
 /// One contact of the last committed substep, with the forces the resting phase gave it.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,10 +44,35 @@ pub struct Pipeline {
     last_contacts: Vec<ContactRecord>,
 }
 
+/// A resting force of the last committed substep, kept by contact key as the next resting
+/// phase's warm start. It shapes the next answer (the solvers stop at a tolerance), so a
+/// checkpoint carries it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WarmForce {
+    /// The contact.
+    pub key: ContactKey,
+    /// Normal force, N.
+    pub normal: Real,
+    /// Friction force on body A (world), N.
+    pub friction: Vec3,
+}
+
 impl Pipeline {
     /// Empty pipeline.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// The warm forces the next step starts from, in key order.
+    pub fn warm_forces(&self) -> Vec<WarmForce> {
+        self.warm.iter().map(|&(key, normal, friction)| WarmForce { key, normal, friction }).collect()
+    }
+
+    /// A pipeline that starts from `forces` (as returned by [`Self::warm_forces`]).
+    pub fn with_warm_forces(forces: &[WarmForce]) -> Self {
+        let mut warm: Vec<_> = forces.iter().map(|w| (w.key, w.normal, w.friction)).collect();
+        warm.sort_by_key(|e| e.0);
+        Self { warm, ..Self::default() }
     }
 
     /// The contacts of the last committed substep.

@@ -29,6 +29,19 @@ pub struct World {
     pub(crate) geometry: GeometryCache,
 }
 
+/// What changes as a world runs: its bodies, its clock and its dissipation totals. With the
+/// world's fixed parts (types, container, materials, parameters) and the pipeline's warm
+/// forces ([`crate::Pipeline::warm_forces`]) it continues a run bit for bit (checkpoints).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct WorldState {
+    /// The bodies, in index order.
+    pub bodies: Vec<Body>,
+    /// Simulated time, s.
+    pub time: Real,
+    /// Dissipation totals since the start.
+    pub totals: EnergyLedger,
+}
+
 impl World {
     /// A world with no bodies. Validates every input.
     pub fn new(
@@ -112,6 +125,31 @@ impl World {
         }
         self.bodies.push(body);
         Ok(BodyId(self.bodies.len() as u32 - 1))
+    }
+
+    /// A copy of the state that changes as the world runs.
+    pub fn state(&self) -> WorldState {
+        WorldState { bodies: self.bodies.clone(), time: self.time, totals: self.totals }
+    }
+
+    /// Replaces the bodies, clock and totals by `state` (taken from a world with the same
+    /// types). Refused if a body names an unregistered type or is not finite.
+    pub fn restore(&mut self, state: WorldState) -> Result<(), SimError> {
+        for (k, b) in state.bodies.iter().enumerate() {
+            if b.type_id.0 as usize >= self.types.len() {
+                return Err(SimError::UnknownBodyType(b.type_id.0));
+            }
+            if !b.is_finite() {
+                return Err(SimError::NonFiniteState(k as u32));
+            }
+        }
+        if !state.time.is_finite() {
+            return Err(SimError::InvalidParameter { name: "time", value: state.time, reason: "must be finite" });
+        }
+        self.bodies = state.bodies;
+        self.time = state.time;
+        self.totals = state.totals;
+        Ok(())
     }
 
     /// Read access to the bodies.

@@ -1,0 +1,117 @@
+//! Checkpoints of a pack run: everything that, with the run's configuration and pellet,
+//! continues it bit for bit — the bodies with their momenta, the resting phase's warm forces,
+//! the loader's place in its random stream, and the driver's own state (next entry, next
+//! frame, the recent energy history the settle test reads).
+//!
+//! `pack` writes one into the trajectory every `--checkpoint-every` simulated seconds and at
+//! the end; `pack --resume` reads the last one back. A bed of hundreds of cylinders takes hours,
+//! and a run killed by a machine going down, a wall-clock limit or a session's end is then
+//! not lost: the resumed trajectory equals the uninterrupted one frame for frame.
+
+use serde::{Deserialize, Serialize};
+
+use pellet_settle::EnergySample;
+use pellet_sim::{WarmForce, WorldState};
+
+use crate::config::PackConfig;
+use crate::driver::{Ending, PackError};
+use crate::loading::FeederState;
+
+/// Version of the checkpoint layout; a reader accepts only its own.
+pub const CHECKPOINT_VERSION: u32 = 1;
+
+/// The driver's state between two steps, apart from the world and the loader.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunState {
+    /// Pellets are still being fed.
+    pub feeding: bool,
+    /// Earliest time of the next pellet's entry (s).
+    pub next_entry: f64,
+    /// Time of the next recorded frame (s).
+    pub next_frame: f64,
+    /// Time of the next checkpoint (s).
+    pub next_checkpoint: f64,
+    /// Largest penetration so far (m).
+    pub max_penetration: f64,
+    /// Engine substeps so far.
+    pub substeps: u64,
+    /// The energy history the settle test still reads (the last two windows).
+    pub history: Vec<EnergySample>,
+    /// Since when each pellet has been slow (s), for the bed surface.
+    pub slow_since: Vec<Option<f64>>,
+    /// How the run ended, for the checkpoint written at its end.
+    pub ending: Option<Ending>,
+}
+
+/// One checkpoint.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Checkpoint {
+    /// [`CHECKPOINT_VERSION`] of the writer.
+    pub version: u32,
+    /// Bodies, clock and dissipation totals.
+    pub world: WorldState,
+    /// The resting phase's warm forces.
+    pub warm: Vec<WarmForce>,
+    /// The loader.
+    pub feeder: FeederState,
+    /// The driver.
+    pub run: RunState,
+}
+
+impl Checkpoint {
+    /// Simulated time of the checkpoint (s).
+    pub fn time_s(&self) -> f64 {
+        self.world.time
+    }
+
+    /// The bytes stored in the trajectory.
+    pub fn encode(&self) -> Result<Vec<u8>, PackError> {
+        pellet_io::encode_message(self).map_err(|e| PackError::Sink(e.to_string()))
+    }
+
+    /// Reads a checkpoint stored in `path`.
+    pub fn decode(bytes: &[u8], path: &str) -> Result<Self, PackError> {
+        let setup = |m: String| PackError::Setup(m);
+        // The version leads the layout, so an older layout is named, not misread.
+        let version: u32 = pellet_io::decode_message(bytes.get(..4).unwrap_or_default(), path, "checkpoint")
+            .map_err(|e| setup(e.to_string()))?;
+        if version != CHECKPOINT_VERSION {
+            return Err(setup(format!(
+                "{path}: checkpoint version {version}, this pack reads version {CHECKPOINT_VERSION}; run without --resume"
+            )));
+        }
+        pellet_io::decode_message(bytes, path, "checkpoint").map_err(|e| setup(e.to_string()))
+    }
+}
+
+/// Settings that may differ between a run and its continuation: where the pellet file is
+/// (its bytes are compared instead), when to stop, how often to checkpoint, the viewer.
+const MAY_CHANGE: [&str; 4] = ["pellet", "max_time_s", "checkpoint_every_s", "foxglove"];
+
+/// The settings in which `config` differs from the run recorded with `recorded_json` (the
+/// trajectory's `config` metadata), as "name: recorded → now"; empty if it may continue it.
+pub fn resume_conflicts(recorded_json: &str, config: &PackConfig) -> Vec<String> {
+    let Ok(serde_json::Value::Object(old)) = serde_json::from_str::<serde_json::Value>(recorded_json) else {
+        return vec!["config: the recorded configuration is unreadable".into()];
+    };
+    let Ok(serde_json::Value::Object(new)) = serde_json::to_value(config) else {
+        return vec!["config: cannot encode the configuration".into()];
+    };
+    let mut out = Vec::new();
+    for (key, value) in &new {
+        if MAY_CHANGE.contains(&key.as_str()) {
+            continue;
+        }
+        match old.get(key) {
+            Some(v) if v == value => {}
+            Some(v) => out.push(format!("{key}: {v} → {value}")),
+            None => out.push(format!("{key}: (not recorded) → {value}")),
+        }
+    }
+    for key in old.keys() {
+        if !new.contains_key(key) && !MAY_CHANGE.contains(&key.as_str()) {
+            out.push(format!("{key}: recorded but unknown to this pack"));
+        }
+    }
+    out
+}

@@ -1,0 +1,106 @@
+//! A run continued from a checkpoint equals the uninterrupted run: every frame and energy
+//! record after the checkpoint, bit for bit, whether it continues from a checkpoint taken on
+//! the way (a killed run) or from the one written at an interruption.
+
+mod common;
+
+use pellet_geom::{Pellet, Resolution, ShapeSpec};
+use pellet_io::{EnergyRecord, Frame};
+use pellet_pack::{resume_pack, run_pack, Checkpoint, Ending, PackConfig, RunSink};
+
+/// Records everything; asks to stop after `stop_after` energy records.
+#[derive(Default)]
+struct Recorder {
+    frames: Vec<Frame>,
+    energy: Vec<EnergyRecord>,
+    checkpoints: Vec<(f64, Vec<u8>)>,
+    stop_after: Option<usize>,
+}
+
+impl RunSink for Recorder {
+    fn frame(&mut self, frame: &Frame) -> Result<(), String> {
+        self.frames.push(frame.clone());
+        Ok(())
+    }
+    fn energy(&mut self, record: &EnergyRecord) -> Result<(), String> {
+        self.energy.push(record.clone());
+        Ok(())
+    }
+    fn should_stop(&self) -> bool {
+        self.stop_after.is_some_and(|n| self.energy.len() >= n)
+    }
+    fn checkpoint(&mut self, time_s: f64, bytes: &[u8]) -> Result<(), String> {
+        self.checkpoints.push((time_s, bytes.to_vec()));
+        Ok(())
+    }
+}
+
+fn cylinder() -> Pellet {
+    Pellet::build(ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 }, Resolution::default()).unwrap()
+}
+
+fn config(max_time: f64) -> PackConfig {
+    common::pack_config(30.0, 6, |o| {
+        o.max_time = Some(max_time);
+        o.checkpoint_every = Some(0.1);
+        o.record_every = Some(0.02);
+    })
+}
+
+/// What `whole` recorded after time `t`: (frames at or after t, energy records after t).
+fn after(whole: &Recorder, t: f64) -> (Vec<Frame>, Vec<EnergyRecord>) {
+    (
+        whole.frames.iter().filter(|f| f.time_s >= t).cloned().collect(),
+        whole.energy.iter().filter(|e| e.time_s > t).cloned().collect(),
+    )
+}
+
+#[test]
+fn a_resumed_run_equals_the_uninterrupted_one() {
+    let pellet = cylinder();
+    let mut whole = Recorder::default();
+    let summary = run_pack(&config(0.8), &pellet, &mut whole).unwrap();
+    assert_eq!(summary.ending, Ending::TimeLimit);
+    // Checkpoints every 0.1 s and one at the end.
+    assert!(whole.checkpoints.len() >= 8, "{} checkpoints", whole.checkpoints.len());
+
+    // Killed at 0.35 s: go on from the last checkpoint it wrote on the way (at 0.3 s).
+    let mut first = Recorder { stop_after: Some(70), ..Recorder::default() };
+    assert_eq!(run_pack(&config(0.8), &pellet, &mut first).unwrap().ending, Ending::Interrupted);
+    let (t, bytes) = first.checkpoints.iter().rev().nth(1).expect("a checkpoint on the way").clone();
+    assert!((t - 0.3).abs() < 1e-9, "checkpoint at {t}");
+    let checkpoint = Checkpoint::decode(&bytes, "test").unwrap();
+    assert_eq!(checkpoint.run.ending, None);
+    assert!(checkpoint.world.bodies.len() >= 2, "pellets in the tube by then");
+    let mut rest = Recorder::default();
+    assert_eq!(key(&resume_pack(&config(0.8), &pellet, &mut rest, Some(checkpoint)).unwrap()), key(&summary));
+    let (frames, energy) = after(&whole, t);
+    assert_eq!(rest.frames, frames);
+    assert_eq!(rest.energy, energy);
+
+    // Interrupted: go on from the checkpoint written at the end, to the same limit.
+    let (t_end, bytes) = first.checkpoints.last().unwrap().clone();
+    let checkpoint = Checkpoint::decode(&bytes, "test").unwrap();
+    assert_eq!(checkpoint.run.ending, Some(Ending::Interrupted));
+    let mut rest = Recorder::default();
+    resume_pack(&config(0.8), &pellet, &mut rest, Some(checkpoint)).unwrap();
+    let (frames, energy) = after(&whole, t_end);
+    assert_eq!(rest.frames, frames);
+    assert_eq!(rest.energy, energy);
+    assert_eq!(rest.checkpoints.last().map(|c| c.0), whole.checkpoints.last().map(|c| c.0));
+}
+
+fn key(s: &pellet_pack::RunSummary) -> (Ending, f64, u32, f64, u64) {
+    (s.ending.clone(), s.time_s, s.pellets, s.max_penetration_m, s.substeps)
+}
+
+/// A checkpoint of another layout version is refused with a message that says what to do.
+#[test]
+fn another_checkpoint_version_is_refused() {
+    let mut whole = Recorder::default();
+    run_pack(&config(0.15), &cylinder(), &mut whole).unwrap();
+    let mut bytes = whole.checkpoints.last().unwrap().1.clone();
+    bytes[0] = bytes[0].wrapping_add(1);
+    let e = Checkpoint::decode(&bytes, "x.mcap").unwrap_err().to_string();
+    assert!(e.contains("checkpoint version") && e.contains("without --resume"), "{e}");
+}

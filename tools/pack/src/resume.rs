@@ -1,0 +1,113 @@
+//! `pack --resume`: finds the partial run of the same output to continue, and starts the new
+//! trajectory with what that run recorded up to its last checkpoint.
+//!
+//! The candidates are `<output>.part` (a killed run), `<output>` (a run that was interrupted or
+//! reached its --max-time) and `<output>.resume` (a resume that was itself killed while it
+//! copied). Of those made by the same configuration and pellet, the one with the latest
+//! checkpoint wins.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context};
+
+use pellet_io::{Trajectory, TrajectoryWriter};
+use pellet_pack::{resume_conflicts, Checkpoint, Ending, PackConfig};
+
+/// A run to continue.
+pub struct Source {
+    path: PathBuf,
+    trajectory: Trajectory,
+    checkpoint_bytes: Vec<u8>,
+    /// Its last checkpoint.
+    pub checkpoint: Checkpoint,
+}
+
+fn with_suffix(output: &str, suffix: &str) -> PathBuf {
+    PathBuf::from(format!("{output}{suffix}"))
+}
+
+/// The run to continue, if any. A candidate made by another configuration or pellet is an
+/// error when no compatible one exists (continuing would mix two runs; starting over would
+/// overwrite it).
+pub fn find(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::Result<Option<Source>> {
+    let mut best: Option<Source> = None;
+    let mut refused: Option<String> = None;
+    for path in [with_suffix(output, ".part"), PathBuf::from(output), with_suffix(output, ".resume")] {
+        if !path.is_file() {
+            continue;
+        }
+        let shown = path.display().to_string();
+        let Ok(bytes) = std::fs::read(&path) else { continue };
+        let Ok(mut trajectory) = pellet_io::read_trajectory(&bytes, &shown) else { continue };
+        let Some((_, checkpoint_bytes)) = trajectory.checkpoint.take() else { continue };
+        if trajectory.pellet_files.first().map(Vec::as_slice) != Some(pellet_bytes) {
+            refused.get_or_insert(format!("{shown} was made with another pellet file"));
+            continue;
+        }
+        let recorded = trajectory.run.get("config").map(String::as_str).unwrap_or("");
+        let conflicts = resume_conflicts(recorded, config);
+        if !conflicts.is_empty() {
+            refused.get_or_insert(format!("{shown} was made with other settings ({})", conflicts.join(", ")));
+            continue;
+        }
+        let checkpoint = Checkpoint::decode(&checkpoint_bytes, &shown)?;
+        if best.as_ref().is_none_or(|b| checkpoint.time_s() > b.checkpoint.time_s()) {
+            best = Some(Source { path, trajectory, checkpoint_bytes, checkpoint });
+        }
+    }
+    match (best, refused) {
+        (Some(source), _) => {
+            let (t, shown) = (source.checkpoint.time_s(), source.path.display());
+            match source.checkpoint.run.ending {
+                Some(Ending::Settled) => bail!("{shown}: the run settled at t = {t:.3} s; nothing to resume"),
+                Some(Ending::TimeLimit) if config.max_time_s <= t => {
+                    bail!("{shown}: the run reached its --max-time at t = {t:.3} s; give a larger --max-time to go on")
+                }
+                _ => Ok(Some(source)),
+            }
+        }
+        (None, Some(why)) => bail!("cannot resume: {why}; delete it, or run without --resume to start over"),
+        (None, None) => Ok(None),
+    }
+}
+
+impl Source {
+    /// Moves the source to `<output>.resume`, out of the way of the new `<output>.part` (which
+    /// may be the source itself) and of the final name. Call before creating the new writer.
+    pub fn set_aside(mut self, output: &str) -> anyhow::Result<Self> {
+        let aside = with_suffix(output, ".resume");
+        if self.path != aside {
+            std::fs::rename(&self.path, &aside)
+                .with_context(|| format!("cannot move {} to {}", self.path.display(), aside.display()))?;
+            self.path = aside;
+        }
+        Ok(self)
+    }
+
+    /// Writes into `writer` the source's frames before the checkpoint, its energy records up
+    /// to it and the checkpoint itself, then deletes the source (set aside first): the new
+    /// trajectory alone can be resumed from here on.
+    pub fn copy_into(self, writer: &mut TrajectoryWriter) -> anyhow::Result<Checkpoint> {
+        let t = self.checkpoint.time_s();
+        // A frame at the checkpoint's time is written after it (by the resumed run); the step
+        // that ended there wrote its energy record before it.
+        for frame in self.trajectory.frames.iter().filter(|f| f.time_s < t) {
+            writer.write_frame(frame)?;
+        }
+        for record in self.trajectory.energy.iter().filter(|e| e.time_s <= t) {
+            writer.write_energy(record)?;
+        }
+        writer.write_checkpoint(t, &self.checkpoint_bytes)?;
+        remove_if_present(&self.path)?;
+        Ok(self.checkpoint)
+    }
+}
+
+fn remove_if_present(path: &Path) -> anyhow::Result<()> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(e).with_context(|| format!("cannot remove {}", path.display()))
+        }
+        _ => Ok(()),
+    }
+}
