@@ -255,13 +255,18 @@ fn resume_continues_a_stopped_or_killed_run_exactly() {
     let whole = read(d, "whole.mcap");
     assert!(whole.checkpoint.is_some());
 
+    // The run of `output` continued to 0.9 s: it ends at the time limit again.
+    let resume_to_the_end = |output: &str| {
+        let mut again = resumable("0.9", output);
+        again.push("--resume".into());
+        let out = pack_owned(d, &again);
+        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        read(d, output)
+    };
+
     // Past the time limit.
     assert_eq!(pack_owned(d, &resumable("0.45", "a.mcap")).status.code(), Some(2));
-    let mut again = resumable("0.9", "a.mcap");
-    again.push("--resume".into());
-    let out = pack_owned(d, &again);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let a = read(d, "a.mcap");
+    let a = resume_to_the_end("a.mcap");
     assert_eq!(a.frames, whole.frames);
     assert_eq!(a.energy, whole.energy);
     assert!(a.run["args"].contains("--resume"));
@@ -271,11 +276,7 @@ fn resume_continues_a_stopped_or_killed_run_exactly() {
     std::fs::write(d.join("k.mcap.part"), &bytes[..bytes.len() * 6 / 10]).unwrap();
     let cut = read(d, "k.mcap.part");
     assert!(cut.truncated.is_some() && cut.checkpoint.is_some());
-    let mut again = resumable("0.9", "k.mcap");
-    again.push("--resume".into());
-    let out = pack_owned(d, &again);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    let k = read(d, "k.mcap");
+    let k = resume_to_the_end("k.mcap");
     assert_eq!(k.frames, whole.frames);
     assert_eq!(k.energy, whole.energy);
     assert!(!d.join("k.mcap.part").exists() && !d.join("k.mcap.resume").exists());
@@ -302,6 +303,12 @@ fn resume_refuses_what_it_cannot_continue() {
     same.push("--resume".into());
     let err = stderr(&pack_owned(d, &same));
     assert!(err.contains("give a larger --max-time"), "{err}");
+
+    let one = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "1", "--quiet", "-o", "one.mcap"];
+    assert_eq!(pack(d, &one).status.code(), Some(0));
+    let out = pack(d, &[&one[..], &["--resume"]].concat());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("settled at t = ") && stderr(&out).contains("nothing to resume"), "{}", stderr(&out));
 
     let mut fresh = resumable("0.3", "new.mcap");
     fresh.push("--resume".into());
