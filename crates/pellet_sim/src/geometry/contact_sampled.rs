@@ -6,6 +6,7 @@
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
 use super::narrow_phase::Pellet;
+use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
 use super::samples::{cone_alignment, rim_point};
 use super::sdf::{edge_cone, edge_faces, eval, lipschitz};
 use crate::math::{Mat3, Real, Vec3};
@@ -190,7 +191,9 @@ impl<'a> OneWay<'a> {
         self.hit(&s, i, feature & !SIDE_B)
     }
 
-    fn collect(&self, max_gap: Real, hits: &mut Vec<Hit>) {
+    /// Every sample of src that may give a hit at `max_gap` (a rim sample: a refined hit up to
+    /// one rim spacing further), visited in cluster order; `visit` is called for each.
+    fn each_near(&self, max_gap: Real, mut visit: impl FnMut(usize, Real)) {
         let geo = self.src.geom;
         let lip = lipschitz(self.dst.shape);
         let r_dst = self.dst.geom.bounding_radius;
@@ -204,29 +207,60 @@ impl<'a> OneWay<'a> {
             }
             for &i in &cl.members {
                 let i = i as usize;
-                let s = &geo.samples[i];
-                let phi = self.phi(s).0;
+                let phi = self.phi(&geo.samples[i]).0;
                 let rim = geo.rim_of[i];
-                if rim != u32::MAX && phi <= max_gap + geo.rim_spacing(rim as usize) {
-                    let r = &geo.rims[rim as usize];
-                    let k = i - r.start;
-                    let prev = r.start + (k + r.count - 1) % r.count;
-                    let next = r.start + (k + 1) % r.count;
-                    // Refine only at a local minimum along the rim, so that one crossing gives
-                    // one refined point (ties broken towards the lower index).
-                    if phi <= self.phi(&geo.samples[prev]).0 && phi < self.phi(&geo.samples[next]).0 {
-                        if let Some(h) = self.hit(&self.refined(i), i, i as u32 | REFINED) {
-                            if h.gap <= max_gap {
-                                hits.push(h);
-                            }
-                        }
-                        continue;
-                    }
-                }
-                if phi <= max_gap {
-                    hits.extend(self.hit(s, i, i as u32).filter(|h| h.gap <= max_gap));
+                let slack = if rim != u32::MAX { geo.rim_spacing(rim as usize) } else { 0.0 };
+                if phi <= max_gap + slack {
+                    visit(i, phi);
                 }
             }
+        }
+    }
+
+    /// The hits of sample `i` (its SDF value `phi`) at `max_gap`: a rim sample at a local
+    /// minimum along its rim gives its refined point, any other sample within `max_gap` itself.
+    fn visit(&self, i: usize, phi: Real, max_gap: Real, hits: &mut Vec<Hit>) {
+        let geo = self.src.geom;
+        let s = &geo.samples[i];
+        let rim = geo.rim_of[i];
+        if rim != u32::MAX && phi <= max_gap + geo.rim_spacing(rim as usize) {
+            let r = &geo.rims[rim as usize];
+            let k = i - r.start;
+            let prev = r.start + (k + r.count - 1) % r.count;
+            let next = r.start + (k + 1) % r.count;
+            // Refine only at a local minimum along the rim, so that one crossing gives
+            // one refined point (ties broken towards the lower index).
+            if phi <= self.phi(&geo.samples[prev]).0 && phi < self.phi(&geo.samples[next]).0 {
+                if let Some(h) = self.hit(&self.refined(i), i, i as u32 | REFINED) {
+                    if h.gap <= max_gap {
+                        hits.push(h);
+                    }
+                }
+                return;
+            }
+        }
+        if phi <= max_gap {
+            hits.extend(self.hit(s, i, i as u32).filter(|h| h.gap <= max_gap));
+        }
+    }
+
+    fn collect(&self, max_gap: Real, hits: &mut Vec<Hit>) {
+        self.each_near(max_gap, |i, phi| self.visit(i, phi, max_gap, hits));
+    }
+
+    /// The samples that may give a hit at any gap limit up to `bound`, in visiting order.
+    fn candidates(&self, bound: Real, out: &mut Vec<u32>) {
+        out.clear();
+        self.each_near(bound, |i, _| out.push(i as u32));
+    }
+
+    /// [`Self::collect`] over `candidates` only: the same hits in the same order when every
+    /// sample outside them is known to be farther than the limit (`sample_cache`).
+    fn collect_from(&self, candidates: &[u32], max_gap: Real, hits: &mut Vec<Hit>) {
+        for &i in candidates {
+            let i = i as usize;
+            let phi = self.phi(&self.src.geom.samples[i]).0;
+            self.visit(i, phi, max_gap, hits);
         }
     }
 }
@@ -250,6 +284,35 @@ pub fn sampled_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<C
     let mut hits = Vec::new();
     OneWay::new(a, b, false).collect(max_gap, &mut hits);
     OneWay::new(b, a, true).collect(max_gap, &mut hits);
+    contacts_of(a, b, hits, out);
+}
+
+/// [`sampled_pair`] through `cache`, which keeps the samples that can touch while the pair's
+/// relative pose allows it: the same contacts, bit for bit.
+pub fn sampled_pair_cached(
+    a: Pellet<'_>,
+    b: Pellet<'_>,
+    max_gap: Real,
+    cache: &mut PairSamples,
+    out: &mut Vec<Contact>,
+) {
+    let ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
+    let poses = [(ways[0].m, ways[0].t), (ways[1].m, ways[1].t)];
+    let reach = [lipschitz(b.shape), lipschitz(a.shape)];
+    let radii = [a.geom.bounding_radius, b.geom.bounding_radius];
+    if !cache.covers(&poses, &reach, &radii, max_gap) {
+        let bound = max_gap + SAMPLE_CACHE_MARGIN * radii[0].min(radii[1]);
+        cache.rebuild(poses, bound, |k, list| ways[k].candidates(bound, list));
+    }
+    let mut hits = Vec::new();
+    for (way, list) in ways.iter().zip(cache.candidates()) {
+        way.collect_from(list, max_gap, &mut hits);
+    }
+    contacts_of(a, b, hits, out);
+}
+
+/// The contacts of a pair's hits: patched by normal and each patch reduced.
+fn contacts_of(a: Pellet<'_>, b: Pellet<'_>, mut hits: Vec<Hit>, out: &mut Vec<Contact>) {
     for patch in patches(&mut hits) {
         let first = &hits[patch[0]];
         let (normal, owner) = (first.normal, first.owner);

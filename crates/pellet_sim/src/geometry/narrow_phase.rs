@@ -7,10 +7,11 @@
 //! [`Contact`] records.
 
 use super::contact::{Contact, ContactKey, Counterpart};
-use super::contact_sampled::{sampled_feature, sampled_pair, sphere_shape};
+use super::contact_sampled::{sampled_feature, sampled_pair, sampled_pair_cached, sphere_shape};
 use super::contact_shape_wall::{shape_wall, shape_wall_feature};
 use super::contact_sphere_sphere::sphere_sphere;
 use super::contact_sphere_wall::sphere_wall;
+use super::sample_cache::SampleCache;
 use super::samples::TypeGeometry;
 use crate::body::Body;
 use crate::container::{Container, WallId};
@@ -36,6 +37,22 @@ pub fn collide_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<C
     match sphere_pair(a, b, max_gap) {
         Some(one) => out.extend(one),
         None => sampled_pair(a, b, max_gap, out),
+    }
+    Ok(())
+}
+
+/// [`collide_pair`] with the sampled pairs' candidate samples kept in `cache` across calls
+/// (`sample_cache`): the same contacts, less work while the pair's relative pose hardly changes.
+pub fn collide_pair_cached(
+    a: Pellet<'_>,
+    b: Pellet<'_>,
+    max_gap: Real,
+    cache: &mut SampleCache,
+    out: &mut Vec<Contact>,
+) -> Result<(), SimError> {
+    match sphere_pair(a, b, max_gap) {
+        Some(one) => out.extend(one),
+        None => sampled_pair_cached(a, b, max_gap, cache.entry(a.index, b.index), out),
     }
     Ok(())
 }

@@ -15,8 +15,9 @@ use crate::dynamics::rows::relative_velocity;
 use crate::dynamics::stabilize::project_positions;
 use crate::error::SimError;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
-use crate::geometry::narrow_phase::{collide_feature, collide_pair, collide_wall, Pellet};
+use crate::geometry::narrow_phase::{collide_feature, collide_pair_cached, collide_wall, Pellet};
 use crate::geometry::pair_cache::PairCache;
+use crate::geometry::sample_cache::SampleCache;
 use crate::geometry::samples::GeometryCache;
 use crate::math::{Real, Vec3};
 use crate::shape::BodyType;
@@ -37,6 +38,7 @@ pub struct ContactRecord {
 #[derive(Debug, Default, Clone)]
 pub struct Pipeline {
     broad: PairCache,
+    samples: SampleCache,
     /// Last substep's resting forces by contact key: normal force (N) and friction force on
     /// body A (world, N), the warm start of the next resting phase.
     warm: Vec<(ContactKey, Real, Vec3)>,
@@ -145,13 +147,14 @@ impl World {
         Pellet { index, body: &bodies[index], shape: &self.types[ty].shape, geom: &self.geometry.types[ty] }
     }
 
-    fn narrow_phase(&self, prox: &Proximity, max_gap: Real) -> Result<Vec<Contact>, SimError> {
+    fn narrow_phase(&self, prox: &Proximity, max_gap: Real, cache: &mut SampleCache) -> Result<Vec<Contact>, SimError> {
         let mut out = Vec::new();
+        cache.next_round();
         for &(i, j) in &prox.pairs {
             let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
             let pa = self.pellet(&self.bodies, i, ti);
             let pb = self.pellet(&self.bodies, j, tj);
-            collide_pair(pa, pb, max_gap, &mut out)?;
+            collide_pair_cached(pa, pb, max_gap, cache, &mut out)?;
         }
         for &(k, wall) in &prox.walls {
             let t = self.bodies[k].type_id.0 as usize;
@@ -224,7 +227,7 @@ impl World {
         loop {
             // Generate contacts a little ahead: up to the distance a pair can close in dt.
             let clock = std::time::Instant::now();
-            let contacts = self.narrow_phase(prox, delta_c + prox.v_max * dt)?;
+            let contacts = self.narrow_phase(prox, delta_c + prox.v_max * dt, &mut pipeline.samples)?;
             report.wall_seconds[0] += clock.elapsed().as_secs_f64();
             let (cor, mu): (Vec<Real>, Vec<Real>) = contacts
                 .iter()
