@@ -14,6 +14,7 @@ pub mod checkpoint;
 pub mod config;
 pub mod driver;
 pub mod loading;
+mod setup;
 
 pub use checkpoint::{resume_conflicts, Checkpoint, CHECKPOINT_VERSION};
 pub use config::{Amount, ClampRule, ContactModel, PackConfig, PackOptions};
