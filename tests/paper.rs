@@ -187,3 +187,77 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
     s.run("paper-report", &["--table", "beds.csv", "--runs", "docs/runs", "--runs", "nowhere", "-o", "r2"])
         .fails_with("--runs nowhere: not a directory");
 }
+
+/// A bed whose make is interrupted (SIGTERM to make and everything under it, as when a machine
+/// or a session stops) is continued by the next make from pack's checkpoint: the trajectory
+/// equals an uninterrupted run's, and pack.time adds up both legs.
+#[test]
+fn an_interrupted_paper_bed_is_resumed_by_the_next_make() {
+    use std::os::unix::process::CommandExt;
+    let s = Scenario::new();
+    let table = "\
+config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as
+val-sphere-D25,validation,sphere,25,1,120,0,40,one-column,,,,,8,taller tube
+";
+    std::fs::write(s.file("beds.csv"), table).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace root").to_path_buf();
+    let bin_dir = bin("pack").parent().expect("binary directory").to_path_buf();
+    let id = "val-sphere-D25-s1";
+    let mut child = Command::new("make")
+        .arg("-f")
+        .arg(root.join("pipelines/paper.mk"))
+        .arg(format!("BIN={}", bin_dir.display()))
+        .args(["OUT=out", "DOCS=docs", "TABLE=beds.csv", "NICE="])
+        .arg(format!("out/runs/{id}.mcap"))
+        .current_dir(s.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .process_group(0)
+        .spawn()
+        .expect("run make");
+    // Once pack is writing, stop the whole group.
+    let part = s.file(&format!("out/runs/{id}.run.mcap.part"));
+    let start = std::time::Instant::now();
+    while !part.exists() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let group = format!("-{}", child.id());
+    assert!(Command::new("kill").args(["-TERM", "--", &group]).status().unwrap().success());
+    assert!(!child.wait().unwrap().success(), "the interrupted make must fail");
+    // pack finishes its step and closes the run; timed.sh then records the leg.
+    let time_file = s.file(&format!("out/runs/{id}.pack.time"));
+    let start = std::time::Instant::now();
+    while !time_file.exists() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let first_leg: f64 = std::fs::read_to_string(&time_file)
+        .expect("the interrupted leg's time is recorded")
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let interrupted =
+        pellet_io::read_trajectory(&std::fs::read(s.file(&format!("out/runs/{id}.run.mcap"))).unwrap(), "i")
+            .expect("pack closed the interrupted run");
+    let t_stop = interrupted.frames.last().unwrap().time_s;
+    assert!(interrupted.checkpoint.is_some());
+
+    let out = make(&s, &[&format!("out/runs/{id}.mcap")]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let total: f64 = std::fs::read_to_string(s.file(&format!("out/runs/{id}.pack.time")))
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(total > first_leg, "pack.time {total} s must add the first leg's {first_leg} s");
+    s.run("pack", &["--case", &format!("out/cases/{id}.toml"), "-o", "straight.mcap", "--quiet"]);
+    let read = |name: &str| pellet_io::read_trajectory(&std::fs::read(s.file(name)).unwrap(), name).unwrap();
+    let (resumed, straight) = (read(&format!("out/runs/{id}.mcap")), read("straight.mcap"));
+    assert!(resumed.frames.last().unwrap().time_s > t_stop, "the run went on after t = {t_stop}");
+    assert_eq!(resumed.frames, straight.frames);
+    assert_eq!(resumed.energy, straight.energy);
+}
