@@ -172,7 +172,9 @@ pub fn resting_phase(
             })
             .collect();
         // Friction rows: per frictional contact, t1 along the slip (or any tangent), t2 = n × t1.
-        let mut fric: Vec<FrictionEntry> = Vec::new();
+        // Sized up front: an entry holds two rows (~450 bytes), and growing by doubling copied
+        // ~1 MB per substep of a 690-sphere bed (memmove was 9 % of a bed at rest in perf).
+        let mut fric: Vec<FrictionEntry> = Vec::with_capacity(island.contacts.len());
         for (k, &ci) in island.contacts.iter().enumerate() {
             let c = &contacts[ci];
             if mu[ci] <= 0.0 {

@@ -148,7 +148,8 @@ impl World {
     }
 
     fn narrow_phase(&self, prox: &Proximity, max_gap: Real, cache: &mut SampleCache) -> Result<Vec<Contact>, SimError> {
-        let mut out = Vec::new();
+        // Room for one contact per pair and wall (what sphere beds give) without regrowing.
+        let mut out = Vec::with_capacity(prox.pairs.len() + prox.walls.len());
         cache.next_round();
         for &(i, j) in &prox.pairs {
             let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
