@@ -8,8 +8,6 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context};
-
-mod resume;
 use clap::Parser;
 
 use pellet_cli::Outcome;
@@ -19,6 +17,8 @@ use pellet_pack::{
     check_setup, resume_pack, Amount, ClampRule, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions,
     Progress, RunSink,
 };
+
+mod resume;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -275,9 +275,10 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     };
     // Check everything the engine checks before creating the output.
     check_setup(&config, &pellet)?;
-    let source = match args.resume {
-        true => resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?,
-        false => None,
+    let source = if args.resume {
+        resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?
+    } else {
+        None
     };
     let mut writer = TrajectoryWriter::create(Path::new(&output), &header)?;
     if config.foxglove {

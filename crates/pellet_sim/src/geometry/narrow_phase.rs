@@ -34,11 +34,7 @@ pub struct Pellet<'a> {
 
 /// Appends the contacts between pellets `a` and `b` with gap ≤ `max_gap` to `out`.
 pub fn collide_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<Contact>) -> Result<(), SimError> {
-    match sphere_pair(a, b, max_gap) {
-        Some(one) => out.extend(one),
-        None => sampled_pair(a, b, max_gap, out),
-    }
-    Ok(())
+    collide(a, b, max_gap, None, out)
 }
 
 /// [`collide_pair`] with the sampled pairs' candidate samples kept in `cache` across calls
@@ -50,9 +46,20 @@ pub fn collide_pair_cached(
     cache: &mut SampleCache,
     out: &mut Vec<Contact>,
 ) -> Result<(), SimError> {
-    match sphere_pair(a, b, max_gap) {
-        Some(one) => out.extend(one),
-        None => sampled_pair_cached(a, b, max_gap, cache.entry(a.index, b.index), out),
+    collide(a, b, max_gap, Some(cache), out)
+}
+
+fn collide(
+    a: Pellet<'_>,
+    b: Pellet<'_>,
+    max_gap: Real,
+    cache: Option<&mut SampleCache>,
+    out: &mut Vec<Contact>,
+) -> Result<(), SimError> {
+    match (sphere_pair(a, b, max_gap), cache) {
+        (Some(one), _) => out.extend(one),
+        (None, Some(cache)) => sampled_pair_cached(a, b, max_gap, cache.entry(a.index, b.index), out),
+        (None, None) => sampled_pair(a, b, max_gap, out),
     }
     Ok(())
 }
