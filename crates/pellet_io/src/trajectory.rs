@@ -413,8 +413,8 @@ pub struct Trajectory {
     pub frames: Vec<Frame>,
     /// Why reading stopped early, for a truncated file (a killed run).
     pub truncated: Option<String>,
-    /// The last checkpoint: its time (s) and bytes (see [`TrajectoryWriter::write_checkpoint`]).
-    pub checkpoint: Option<(f64, Vec<u8>)>,
+    /// The bytes of the last checkpoint (see [`TrajectoryWriter::write_checkpoint`]).
+    pub checkpoint: Option<Vec<u8>>,
 }
 
 /// Reads a whole trajectory from its bytes. A truncated file (a killed
@@ -472,7 +472,7 @@ pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> 
             Record::Message { header, data } => match topics.get(&header.channel_id).map(String::as_str) {
                 Some(POSES_TOPIC) => out.frames.push(decode(&data, path, "pose")?),
                 Some(ENERGY_TOPIC) => out.energy.push(decode(&data, path, "energy")?),
-                Some(CHECKPOINT_TOPIC) => out.checkpoint = Some((header.log_time as f64 * 1e-9, data.into_owned())),
+                Some(CHECKPOINT_TOPIC) => out.checkpoint = Some(data.into_owned()),
                 _ => {}
             },
             _ => {}

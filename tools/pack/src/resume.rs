@@ -39,7 +39,7 @@ pub fn find(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::R
         let shown = path.display().to_string();
         let Ok(bytes) = std::fs::read(&path) else { continue };
         let Ok(mut trajectory) = pellet_io::read_trajectory(&bytes, &shown) else { continue };
-        let Some((_, checkpoint_bytes)) = trajectory.checkpoint.take() else { continue };
+        let Some(checkpoint_bytes) = trajectory.checkpoint.take() else { continue };
         if trajectory.pellet_files.first().map(Vec::as_slice) != Some(pellet_bytes) {
             refused.get_or_insert(format!("{shown} was made with another pellet file"));
             continue;

@@ -279,34 +279,32 @@ fn contact(a: &Pellet<'_>, b: &Pellet<'_>, h: &Hit, normal: Vec3, owner: NormalO
     }
 }
 
-/// Sampled contacts between two pellets, both ways, patched and reduced.
-pub fn sampled_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<Contact>) {
-    let mut hits = Vec::new();
-    OneWay::new(a, b, false).collect(max_gap, &mut hits);
-    OneWay::new(b, a, true).collect(max_gap, &mut hits);
-    contacts_of(a, b, hits, out);
-}
-
-/// [`sampled_pair`] through `cache`, which keeps the samples that can touch while the pair's
-/// relative pose allows it: the same contacts, bit for bit.
-pub fn sampled_pair_cached(
+/// Sampled contacts between two pellets, both ways, patched and reduced. With `cache`, the
+/// samples that can touch are kept across calls while the pair's relative pose allows it
+/// (`sample_cache`): the same contacts, bit for bit.
+pub fn sampled_pair(
     a: Pellet<'_>,
     b: Pellet<'_>,
     max_gap: Real,
-    cache: &mut PairSamples,
+    cache: Option<&mut PairSamples>,
     out: &mut Vec<Contact>,
 ) {
     let ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
-    let poses = [(ways[0].m, ways[0].t), (ways[1].m, ways[1].t)];
-    let reach = [lipschitz(b.shape), lipschitz(a.shape)];
-    let radii = [a.geom.bounding_radius, b.geom.bounding_radius];
-    if !cache.covers(&poses, &reach, &radii, max_gap) {
-        let bound = max_gap + SAMPLE_CACHE_MARGIN * radii[0].min(radii[1]);
-        cache.rebuild(poses, bound, |k, list| ways[k].candidates(bound, list));
-    }
     let mut hits = Vec::new();
-    for (way, list) in ways.iter().zip(cache.candidates()) {
-        way.collect_from(list, max_gap, &mut hits);
+    match cache {
+        None => ways.iter().for_each(|way| way.collect(max_gap, &mut hits)),
+        Some(cache) => {
+            let poses = [(ways[0].m, ways[0].t), (ways[1].m, ways[1].t)];
+            let reach = [lipschitz(b.shape), lipschitz(a.shape)];
+            let radii = [a.geom.bounding_radius, b.geom.bounding_radius];
+            if !cache.covers(&poses, &reach, &radii, max_gap) {
+                let bound = max_gap + SAMPLE_CACHE_MARGIN * radii[0].min(radii[1]);
+                cache.rebuild(poses, bound, |k, list| ways[k].candidates(bound, list));
+            }
+            for (way, list) in ways.iter().zip(cache.candidates()) {
+                way.collect_from(list, max_gap, &mut hits);
+            }
+        }
     }
     contacts_of(a, b, hits, out);
 }

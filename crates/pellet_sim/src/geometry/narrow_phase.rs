@@ -7,7 +7,7 @@
 //! [`Contact`] records.
 
 use super::contact::{Contact, ContactKey, Counterpart};
-use super::contact_sampled::{sampled_feature, sampled_pair, sampled_pair_cached, sphere_shape};
+use super::contact_sampled::{sampled_feature, sampled_pair, sphere_shape};
 use super::contact_shape_wall::{shape_wall, shape_wall_feature};
 use super::contact_sphere_sphere::sphere_sphere;
 use super::contact_sphere_wall::sphere_wall;
@@ -56,10 +56,9 @@ fn collide(
     cache: Option<&mut SampleCache>,
     out: &mut Vec<Contact>,
 ) -> Result<(), SimError> {
-    match (sphere_pair(a, b, max_gap), cache) {
-        (Some(one), _) => out.extend(one),
-        (None, Some(cache)) => sampled_pair_cached(a, b, max_gap, cache.entry(a.index, b.index), out),
-        (None, None) => sampled_pair(a, b, max_gap, out),
+    match sphere_pair(a, b, max_gap) {
+        Some(one) => out.extend(one),
+        None => sampled_pair(a, b, max_gap, cache.map(|c| c.entry(a.index, b.index)), out),
     }
     Ok(())
 }

@@ -29,7 +29,7 @@ pub struct PairSamples {
     /// The gap limit the candidates were collected for (m).
     bound: Real,
     candidates: [Vec<u32>; 2],
-    built: bool,
+    /// Full sweeps so far (0: nothing kept yet).
     builds: u64,
 }
 
@@ -44,7 +44,7 @@ impl PairSamples {
         radii: &[Real; 2],
         max_gap: Real,
     ) -> bool {
-        if !self.built {
+        if self.builds == 0 {
             return false;
         }
         (0..2).all(|k| {
@@ -69,7 +69,6 @@ impl PairSamples {
         for (k, list) in self.candidates.iter_mut().enumerate() {
             collect(k, list);
         }
-        self.built = true;
         self.builds += 1;
     }
 
@@ -100,6 +99,11 @@ impl SampleCache {
         self.round += 1;
     }
 
+    /// (full sweeps, lookups) summed over the pairs still kept: how often the cache was rebuilt.
+    pub fn counts(&self) -> (u64, u64) {
+        (self.pairs.values().map(|(_, p)| p.builds()).sum(), self.lookups)
+    }
+
     /// The entry of pair (i, j), created empty if new.
     pub fn entry(&mut self, i: usize, j: usize) -> &mut PairSamples {
         self.lookups += 1;
@@ -107,12 +111,5 @@ impl SampleCache {
         let e = self.pairs.entry((i, j)).or_insert_with(|| (round, PairSamples::default()));
         e.0 = round;
         &mut e.1
-    }
-}
-
-impl SampleCache {
-    /// (full sweeps, lookups) summed over the pairs still kept: how often the cache was rebuilt.
-    pub fn counts(&self) -> (u64, u64) {
-        (self.pairs.values().map(|(_, p)| p.builds()).sum(), self.lookups)
     }
 }

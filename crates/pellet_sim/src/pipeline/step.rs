@@ -39,9 +39,9 @@ pub struct ContactRecord {
 pub struct Pipeline {
     broad: PairCache,
     samples: SampleCache,
-    /// Last substep's resting forces by contact key: normal force (N) and friction force on
-    /// body A (world, N), the warm start of the next resting phase.
-    warm: Vec<(ContactKey, Real, Vec3)>,
+    /// Last substep's resting forces, sorted by contact key: the warm start of the next
+    /// resting phase.
+    warm: Vec<WarmForce>,
     saved: Vec<Body>,
     last_contacts: Vec<ContactRecord>,
 }
@@ -67,13 +67,13 @@ impl Pipeline {
 
     /// The warm forces the next step starts from, in key order.
     pub fn warm_forces(&self) -> Vec<WarmForce> {
-        self.warm.iter().map(|&(key, normal, friction)| WarmForce { key, normal, friction }).collect()
+        self.warm.clone()
     }
 
     /// A pipeline that starts from `forces` (as returned by [`Self::warm_forces`]).
     pub fn with_warm_forces(forces: &[WarmForce]) -> Self {
-        let mut warm: Vec<_> = forces.iter().map(|w| (w.key, w.normal, w.friction)).collect();
-        warm.sort_by_key(|e| e.0);
+        let mut warm = forces.to_vec();
+        warm.sort_by_key(|w| w.key);
         Self { warm, ..Self::default() }
     }
 
@@ -243,7 +243,8 @@ impl World {
             let clock = std::time::Instant::now();
             let warm = &pipeline.warm;
             let warm_fn = |k: &ContactKey| {
-                warm.binary_search_by(|e| e.0.cmp(k)).map_or((0.0, Vec3::zeros()), |i| (warm[i].1, warm[i].2))
+                warm.binary_search_by(|w| w.key.cmp(k))
+                    .map_or((0.0, Vec3::zeros()), |i| (warm[i].normal, warm[i].friction))
             };
             let (forces, rest) = resting_phase(&self.bodies, &contacts, &mu, &self.params, dt, delta_c, &warm_fn);
             report.wall_seconds[2] += clock.elapsed().as_secs_f64();
@@ -311,9 +312,9 @@ impl World {
                 .iter()
                 .enumerate()
                 .filter(|&(i, _)| forces.normal[i] > 0.0)
-                .map(|(i, c)| (c.key, forces.normal[i], forces.friction[i]))
+                .map(|(i, c)| WarmForce { key: c.key, normal: forces.normal[i], friction: forces.friction[i] })
                 .collect();
-            pipeline.warm.sort_by_key(|e| e.0);
+            pipeline.warm.sort_by_key(|w| w.key);
             pipeline.last_contacts = contacts
                 .into_iter()
                 .enumerate()
