@@ -18,6 +18,7 @@ use pellet_pack::{
     Progress, RunSink,
 };
 
+mod output_lock;
 mod resume;
 
 const EXAMPLES: &str = "\
@@ -275,6 +276,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     };
     // Check everything the engine checks before creating the output.
     check_setup(&config, &pellet)?;
+    // Held until the output is in place (dropped on return).
+    let _lock = output_lock::OutputLock::acquire(&output)?;
     let source = if args.resume {
         resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?
     } else {

@@ -317,3 +317,31 @@ fn resume_refuses_what_it_cannot_continue() {
     assert!(stderr(&out).contains("starting at t = 0"), "{}", stderr(&out));
     assert_eq!(read(d, "new.mcap").frames, read(d, "r.mcap").frames);
 }
+
+/// Two packs never write the same output: while one holds `<output>.lock` the other stops
+/// before touching anything, and says who holds it. A stale lock file (a killed run's) is no
+/// obstacle, and a finished run removes its lock file.
+#[test]
+fn a_second_pack_on_the_same_output_is_refused() {
+    let dir = setup();
+    let d = dir.path();
+    std::fs::write(d.join("o.mcap.part"), b"another run's partial trajectory").unwrap();
+    let held = std::fs::OpenOptions::new().create(true).truncate(true).write(true).open(d.join("o.mcap.lock")).unwrap();
+    held.try_lock().unwrap();
+    std::fs::write(d.join("o.mcap.lock"), b"4242").unwrap();
+    let args = resumable("0.2", "o.mcap");
+    let out = pack_owned(d, &[args.clone(), vec!["--resume".into()]].concat());
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(err.contains("another pack (pid 4242) is writing o.mcap") && err.contains("give another -o"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(std::fs::read(d.join("o.mcap.part")).unwrap(), b"another run's partial trajectory");
+    assert!(!d.join("o.mcap").exists());
+
+    // Released (as by a killed run): the stale file is locked again, and removed at the end.
+    drop(held);
+    std::fs::remove_file(d.join("o.mcap.part")).unwrap();
+    assert_eq!(pack_owned(d, &args).status.code(), Some(2), "ends at its --max-time");
+    assert!(read(d, "o.mcap").checkpoint.is_some());
+    assert!(!d.join("o.mcap.lock").exists() && !d.join("o.mcap.part").exists());
+}

@@ -58,11 +58,12 @@ pub fn project_positions(
     for _ in 0..SWEEPS {
         let mut any = false;
         for &i in &order {
-            match cache.gap(bodies, &moves, i) {
-                Some(gap) if gap < -slop => {}
+            // The cached evaluation is the contact at the current poses (its bodies have not
+            // moved since): evaluating it again here was half of the projection's narrow phase.
+            let c = match cache.contact(bodies, &moves, i) {
+                Some(c) if c.gap < -slop => c.clone(),
                 _ => continue,
-            }
-            let Some(c) = eval(bodies, &contacts[i]) else { continue };
+            };
             any = true;
             let b = c.b_body();
             let masses =
@@ -99,35 +100,31 @@ pub fn project_positions(
     st
 }
 
-/// Contact gaps at the current poses, each evaluated again only when one of its bodies has
-/// moved since (`moves[k]` counts body k's corrections; a gap remembers the counts it was
+/// Contacts at the current poses, each evaluated again only when one of its bodies has moved
+/// since (`moves[k]` counts body k's corrections; an entry remembers the counts it was
 /// evaluated at, and `None` in it means the feature no longer exists).
 struct GapCache<'a, 'e> {
     eval: &'a ContactEval<'e>,
     contacts: &'a [Contact],
-    gaps: Vec<Option<CachedGap>>,
+    gaps: Vec<Option<CachedContact>>,
 }
 
-/// A gap and the correction counts of its two bodies when it was evaluated.
-type CachedGap = ((u32, u32), Option<Real>);
+/// A re-evaluated contact and the correction counts of its two bodies when it was evaluated.
+type CachedContact = ((u32, u32), Option<Contact>);
 
 impl GapCache<'_, '_> {
-    fn gap(&mut self, bodies: &[Body], moves: &[u32], i: usize) -> Option<Real> {
+    fn contact(&mut self, bodies: &[Body], moves: &[u32], i: usize) -> Option<&Contact> {
         let c = &self.contacts[i];
         let stamp = (moves[c.a], c.b_body().map_or(0, |b| moves[b]));
-        match self.gaps[i] {
-            Some((at, gap)) if at == stamp => gap,
-            _ => {
-                let gap = (self.eval)(bodies, c).map(|c| c.gap);
-                self.gaps[i] = Some((stamp, gap));
-                gap
-            }
+        if !matches!(self.gaps[i], Some((at, _)) if at == stamp) {
+            self.gaps[i] = Some((stamp, (self.eval)(bodies, c)));
         }
+        self.gaps[i].as_ref().and_then(|(_, c)| c.as_ref())
     }
 
     fn max_penetration(&mut self, bodies: &[Body], moves: &[u32]) -> Real {
         (0..self.contacts.len())
-            .filter_map(|i| self.gap(bodies, moves, i))
+            .filter_map(|i| self.contact(bodies, moves, i).map(|c| c.gap))
             .map(|gap| (-gap).max(0.0))
             .fold(0.0, Real::max)
     }
