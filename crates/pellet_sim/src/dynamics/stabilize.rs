@@ -45,7 +45,7 @@ pub fn project_positions(
     // re-running the narrow phase for every contact on every sweep was 13 % of a 690-sphere
     // pour (perf).
     let mut moves = vec![0u32; bodies.len()];
-    let mut cache = GapCache { eval, contacts, gaps: vec![None; contacts.len()] };
+    let mut cache = ContactCache { eval, contacts, entries: vec![None; contacts.len()] };
     st.max_penetration_before = cache.max_penetration(bodies, &moves);
     if st.max_penetration_before <= slop {
         st.max_penetration_after = st.max_penetration_before;
@@ -59,7 +59,7 @@ pub fn project_positions(
         let mut any = false;
         for &i in &order {
             // The cached evaluation is the contact at the current poses (its bodies have not
-            // moved since): evaluating it again here was half of the projection's narrow phase.
+            // moved since), so it is not evaluated a second time for the correction.
             let c = match cache.contact(bodies, &moves, i) {
                 Some(c) if c.gap < -slop => c.clone(),
                 _ => continue,
@@ -103,23 +103,23 @@ pub fn project_positions(
 /// Contacts at the current poses, each evaluated again only when one of its bodies has moved
 /// since (`moves[k]` counts body k's corrections; an entry remembers the counts it was
 /// evaluated at, and `None` in it means the feature no longer exists).
-struct GapCache<'a, 'e> {
+struct ContactCache<'a, 'e> {
     eval: &'a ContactEval<'e>,
     contacts: &'a [Contact],
-    gaps: Vec<Option<CachedContact>>,
+    entries: Vec<Option<CachedContact>>,
 }
 
 /// A re-evaluated contact and the correction counts of its two bodies when it was evaluated.
 type CachedContact = ((u32, u32), Option<Contact>);
 
-impl GapCache<'_, '_> {
+impl ContactCache<'_, '_> {
     fn contact(&mut self, bodies: &[Body], moves: &[u32], i: usize) -> Option<&Contact> {
         let c = &self.contacts[i];
         let stamp = (moves[c.a], c.b_body().map_or(0, |b| moves[b]));
-        if !matches!(self.gaps[i], Some((at, _)) if at == stamp) {
-            self.gaps[i] = Some((stamp, (self.eval)(bodies, c)));
+        if !matches!(self.entries[i], Some((at, _)) if at == stamp) {
+            self.entries[i] = Some((stamp, (self.eval)(bodies, c)));
         }
-        self.gaps[i].as_ref().and_then(|(_, c)| c.as_ref())
+        self.entries[i].as_ref().and_then(|(_, c)| c.as_ref())
     }
 
     fn max_penetration(&mut self, bodies: &[Body], moves: &[u32]) -> Real {
