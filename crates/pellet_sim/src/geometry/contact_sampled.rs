@@ -9,7 +9,8 @@ use super::narrow_phase::Pellet;
 use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
 use super::samples::{cone_alignment, rim_point};
 use super::sdf::{edge_cone, edge_faces, eval, lipschitz};
-use crate::math::{Mat3, Real, Vec3};
+use crate::math::{axial_distance, Mat3, Real, Vec3};
+use crate::shape::ShapeDesc;
 use std::f64::consts::TAU;
 
 /// Feature bit: the sample belongs to B (its point went into A's SDF).
@@ -32,6 +33,12 @@ const PATCH_COS: Real = 0.9998;
 const FACE_SWITCH: Real = 0.02;
 /// An edge hit joins a patch if its normal is within ~2.6° of both bodies' normal cones.
 const WEDGE_COS: Real = 0.999;
+/// Distance (× R_b) from an edge of the other body within which a rim sample takes the edge–edge
+/// normal (`OneWay::edge_edge`); contacts at rest sit 1e-6–1e-5 m deep, R_b ≈ 7 mm for the
+/// paper's pellets, so the band is ~70 µm.
+const EDGE_BAND: Real = 1e-2;
+/// Edges closer to parallel than this (sine of their angle) are left to the faces.
+const EDGE_PARALLEL: Real = 0.1;
 /// Distance from an edge (× R_b) below which the SDF's direction is round-off.
 const EDGE_EPS: Real = 1e-9;
 /// Smallest alignment (cosine of the angle outside the sample's normal cone) of a hit's normal
@@ -155,6 +162,9 @@ impl<'a> OneWay<'a> {
         if align <= MIN_ALIGN {
             return None;
         }
+        if let Some((n, gap)) = self.edge_edge(s, i, &pd, &cone) {
+            (phi, g) = (gap, n);
+        }
         let n_out = self.rd * g;
         let p = self.rs * s + self.src.body.position;
         // Cones in terms of n (B → A): dst's outward normal is n if dst is B, −n if dst is A;
@@ -170,6 +180,49 @@ impl<'a> OneWay<'a> {
         } else {
             Hit { pa: p, pb: p - n_out * phi, normal: n_out, gap: phi, feature, owner: NormalOwner::B, wedge }
         })
+    }
+
+    /// A rim sample of src within `EDGE_BAND` · R_b of an edge of dst, a ring: the edge–edge
+    /// normal (outward from dst, at right angles to both edges) and the gap along it, in dst's
+    /// frame. None where the two edges are nearly parallel (stacked rims: the faces decide) or
+    /// the normal lies outside either edge's cone of normals. The normal is attached to dst for
+    /// the gap's kinematics (`GapKinematics::Point`), which leaves out the part of its rate that
+    /// src's rotation makes, as for curved faces; post-stabilisation removes what is left.
+    ///
+    /// Why: the refined rim point (the deepest along the rim) lies where the two face depths of
+    /// dst's edge are equal, and there the Euclidean SDF's choice of the shallower face flips by
+    /// 90° with round-off. In the paper's ring bed D = 60.18 mm at rest (241 rings, restarted
+    /// from t = 14.3 s) 6141 contact normals flipped by 90° in 400 substeps, most carrying
+    /// force, one feature 154 times: the big island stayed unconverged and the kinetic energy
+    /// jumped between 1e-15 and 1e-9 J, so wide ring beds never passed the settle test. With the
+    /// edge–edge normal: 4 flips, and the bed at rest needs no solver iterations.
+    ///
+    /// Rings only: settled cylinder beds flip too (270 and 568 normals in 400 substeps on two
+    /// of them) but come to rest anyway, and with the edge–edge normal at cylinder edges two of
+    /// four creep-prone cylinder beds of the paper study ended with a rocking pellet instead of
+    /// settling (NOTES, 2026-11-25 eleventh session).
+    fn edge_edge(&self, s: &Vec3, i: usize, pd: &Vec3, cone: &(Vec3, Vec3)) -> Option<(Vec3, Real)> {
+        if self.src.geom.rim_of[i] == u32::MAX || !matches!(self.dst.shape, ShapeDesc::HollowCylinder { .. }) {
+            return None;
+        }
+        let [(qx, side), (qy, ez)] = edge_faces(self.dst.shape, pd, Real::INFINITY)?;
+        if axial_distance(qx, qy) > EDGE_BAND * self.dst.geom.bounding_radius {
+            return None;
+        }
+        // Tangents of src's rim circle at s and of dst's edge circle at pd, in dst's frame.
+        let t_src = self.m * Vec3::new(-s.y, s.x, 0.0);
+        let t_dst = Vec3::z().cross(&side);
+        let n = t_src.cross(&t_dst);
+        let len = n.norm();
+        if len <= EDGE_PARALLEL * t_src.norm() * t_dst.norm() {
+            return None;
+        }
+        let n = if n.dot(&(side + ez)) < 0.0 { -n / len } else { n / len };
+        let (a, b) = (n.dot(&side), n.dot(&ez));
+        if a < 0.0 || b < 0.0 || cone_alignment(&-n, cone) < WEDGE_COS {
+            return None;
+        }
+        Some((n, a * qx + b * qy))
     }
 
     /// The deepest point along the rim of sample `i` within one sample spacing of it.
