@@ -27,6 +27,13 @@ pub enum Outcome {
 /// Exit code for errors.
 pub const EXIT_ERROR: u8 = 2;
 
+/// The source this binary was built from: `git <commit>` (`-dirty` when tracked files had
+/// changes), or `unknown (…)` outside a git checkout. Set by the build script.
+pub const BUILD: &str = env!("PACKBED_BUILD");
+
+/// `--version`'s text: the package version and [`BUILD`].
+pub const LONG_VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (", env!("PACKBED_BUILD"), ")");
+
 /// Parses the arguments, runs the tool and turns the result into an exit code.
 pub fn main<A: Parser>(tool: &str, run: impl FnOnce(A) -> anyhow::Result<Outcome>) -> ExitCode {
     let args = match A::try_parse() {

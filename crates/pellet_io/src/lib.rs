@@ -45,7 +45,9 @@
 //! profile `packbed/1`. In order:
 //!
 //! - metadata record `packbed.run`: `tool`, `version`, `args`, `seed`,
-//!   `units` (SI) and `config` (the full run configuration as JSON);
+//!   `units` (SI), `config` (the full run configuration as JSON) and `build`
+//!   (the source `pack` was built from, `git <commit>`; a resumed run lists
+//!   each leg's, `git a; from t = 24.230 s git b`);
 //! - attachments `pellet-<i>.pellet` (the pellet files, byte for byte) and
 //!   `tube.json` (`{"diameter_m": …, "lid_height_m": … | null}`), so the
 //!   file alone is enough to analyse the bed;

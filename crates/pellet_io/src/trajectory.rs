@@ -132,6 +132,9 @@ pub struct TrajectoryHeader<'a> {
     pub config_json: &'a str,
     /// The random seed.
     pub seed: u64,
+    /// The source the writing binary was built from (`git <commit>`); for a resumed run, the
+    /// builds of all its legs with the time each took over.
+    pub build: &'a str,
     /// The pellet files (bytes of `.pellet` files), one per pellet type.
     pub pellet_files: &'a [Vec<u8>],
     /// The container.
@@ -203,6 +206,7 @@ impl TrajectoryWriter {
         meta.insert("tool".to_string(), header.provenance.tool.clone());
         meta.insert("version".to_string(), header.provenance.version.clone());
         meta.insert("args".to_string(), header.provenance.args.join(" "));
+        meta.insert("build".to_string(), header.build.to_string());
         meta.insert("seed".to_string(), header.seed.to_string());
         meta.insert("units".to_string(), "SI (m, kg, s, J)".to_string());
         meta.insert("config".to_string(), header.config_json.to_string());

@@ -101,8 +101,14 @@ fn a_trajectory_to_a_fifo_is_written_in_place() {
     let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
     let files = [encode_pellet(&file(ShapeSpec::Sphere { diameter_mm: 10.0 })).unwrap()];
     let tube = Tube { diameter: 0.04, lid_height: None };
-    let header =
-        TrajectoryHeader { provenance: &provenance, config_json: "{}", seed: 1, pellet_files: &files, tube: &tube };
+    let header = TrajectoryHeader {
+        provenance: &provenance,
+        config_json: "{}",
+        seed: 1,
+        build: "git test",
+        pellet_files: &files,
+        tube: &tube,
+    };
     let mut w = TrajectoryWriter::create(&fifo, &header).unwrap();
     w.write_frame(&Frame { time_s: 0.5, ..Frame::default() }).unwrap();
     w.finish().unwrap();

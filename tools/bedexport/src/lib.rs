@@ -71,7 +71,7 @@ pub enum Solids {
 /// (with contact treatments for meshing), VTK files for ParaView, a
 /// solid/fluid voxel grid and the poses as CSV.
 #[derive(Debug, Parser)]
-#[command(name = "bedexport", version, after_help = EXAMPLES, allow_negative_numbers = true)]
+#[command(name = "bedexport", version = pellet_cli::LONG_VERSION, after_help = EXAMPLES, allow_negative_numbers = true)]
 pub struct Args {
     /// The packing file (from settle-check); `-` reads stdin.
     pub packing: String,

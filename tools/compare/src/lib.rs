@@ -40,7 +40,7 @@ Exit codes: 0 success, 1 a --fail-above/--fail-below gate failed, 2 error.";
 /// Score packed beds against the literature's correlations (bulk porosity
 /// and radial void fraction) and experimental profiles, with plots.
 #[derive(Debug, Parser)]
-#[command(name = "compare", version, after_help = EXAMPLES, allow_negative_numbers = true)]
+#[command(name = "compare", version = pellet_cli::LONG_VERSION, after_help = EXAMPLES, allow_negative_numbers = true)]
 pub struct Args {
     /// Profile CSV(s) (`-` = stdin): needs `void_fraction` and
     /// `wall_distance_dp`, `wall_distance_dpv` or `wall_distance_mm`;

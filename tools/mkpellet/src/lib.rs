@@ -27,7 +27,7 @@ All lengths are in millimetres. Exit codes: 0 success, 2 error.";
 /// Make catalyst pellet files: a closed Loop-subdivided triangle mesh with
 /// exact mass properties and collision geometry, for `pack`.
 #[derive(Debug, Parser)]
-#[command(name = "mkpellet", version, after_help = EXAMPLES)]
+#[command(name = "mkpellet", version = pellet_cli::LONG_VERSION, after_help = EXAMPLES)]
 pub struct Args {
     #[command(subcommand)]
     command: Command,

@@ -41,7 +41,7 @@ the trajectory is complete and readable in every case, and --resume continues it
 /// Drop pellets into a tube with the hard-contact rigid-body engine until the
 /// bed settles, streaming the trajectory to an MCAP file.
 #[derive(Debug, Parser)]
-#[command(name = "pack", version, after_help = EXAMPLES, allow_negative_numbers = true)]
+#[command(name = "pack", version = pellet_cli::LONG_VERSION, after_help = EXAMPLES, allow_negative_numbers = true)]
 pub struct Args {
     /// Case file (TOML or JSON) with any of the parameters below.
     #[arg(long, value_name = "FILE")]
@@ -267,13 +267,6 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let config_text = serde_json::to_string(&config_json)?;
     let tube = pellet_geom::Tube { diameter: config.tube_diameter_m, lid_height: None };
     let files = [pellet_bytes];
-    let header = TrajectoryHeader {
-        provenance: &provenance,
-        config_json: &config_text,
-        seed: config.seed,
-        pellet_files: &files,
-        tube: &tube,
-    };
     // Check everything the engine checks before creating the output.
     check_setup(&config, &pellet)?;
     // Held until the output is in place (dropped on return).
@@ -282,6 +275,15 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?
     } else {
         None
+    };
+    let build = source.as_ref().map_or_else(|| pellet_cli::BUILD.to_string(), |s| s.build_history(pellet_cli::BUILD));
+    let header = TrajectoryHeader {
+        provenance: &provenance,
+        config_json: &config_text,
+        seed: config.seed,
+        build: &build,
+        pellet_files: &files,
+        tube: &tube,
     };
     let mut writer = TrajectoryWriter::create(Path::new(&output), &header)?;
     if config.foxglove {

@@ -72,6 +72,13 @@ pub fn find(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::R
 }
 
 impl Source {
+    /// The builds that made this run, continued by `current`: the source's recorded `build`
+    /// (`unrecorded` for runs from before it was recorded), then `; from t = <checkpoint> s
+    /// <current>` unless `current` made its last leg too.
+    pub fn build_history(&self, current: &str) -> String {
+        build_history(self.trajectory.run.get("build").map(String::as_str), self.checkpoint.time_s(), current)
+    }
+
     /// Moves the source to `<output>.resume`, out of the way of the new `<output>.part` (which
     /// may be the source itself) and of the final name. Call before creating the new writer.
     pub fn set_aside(mut self, output: &str) -> anyhow::Result<Self> {
@@ -103,11 +110,37 @@ impl Source {
     }
 }
 
+/// See [`Source::build_history`].
+fn build_history(recorded: Option<&str>, resumed_at_s: f64, current: &str) -> String {
+    let recorded = recorded.unwrap_or("unrecorded");
+    let last_leg = recorded.rsplit(" s ").next().unwrap_or(recorded);
+    if last_leg == current {
+        recorded.to_string()
+    } else {
+        format!("{recorded}; from t = {resumed_at_s:.3} s {current}")
+    }
+}
+
 fn remove_if_present(path: &Path) -> anyhow::Result<()> {
     match std::fs::remove_file(path) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
             Err(e).with_context(|| format!("cannot remove {}", path.display()))
         }
         _ => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::build_history;
+
+    #[test]
+    fn each_leg_of_a_resumed_run_names_its_build() {
+        assert_eq!(build_history(Some("git a"), 2.0, "git a"), "git a");
+        assert_eq!(build_history(Some("git a"), 2.0, "git b"), "git a; from t = 2.000 s git b");
+        let two = "git a; from t = 2.000 s git b";
+        assert_eq!(build_history(Some(two), 3.5, "git b"), two);
+        assert_eq!(build_history(Some(two), 3.5, "git a"), format!("{two}; from t = 3.500 s git a"));
+        assert_eq!(build_history(None, 24.23, "git c"), "unrecorded; from t = 24.230 s git c");
     }
 }

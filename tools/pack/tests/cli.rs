@@ -270,6 +270,10 @@ fn resume_continues_a_stopped_or_killed_run_exactly() {
     assert_eq!(a.frames, whole.frames);
     assert_eq!(a.energy, whole.energy);
     assert!(a.run["args"].contains("--resume"));
+    // Both legs were run by this build: it is named once.
+    let build = &whole.run["build"];
+    assert!(build.starts_with("git ") || build.starts_with("unknown"), "{build}");
+    assert_eq!(&a.run["build"], build);
 
     // Killed: the complete file cut at 60 % of its bytes, under the name a killed run leaves.
     let bytes = std::fs::read(d.join("whole.mcap")).unwrap();

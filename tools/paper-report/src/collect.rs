@@ -39,6 +39,8 @@ pub struct BedResult {
     pub pack_timed: bool,
     /// The settled poses CSV.
     pub poses: Option<PathBuf>,
+    /// The source of the `pack` that ran the bed (settle-check's `build`), if recorded.
+    pub build: Option<String>,
 }
 
 /// A row and what exists of its beds.
@@ -131,6 +133,7 @@ fn read_bed(dirs: &[&Path], id: &str) -> Result<Option<BedResult>> {
         seconds,
         pack_timed,
         poses,
+        build: settle.as_ref().and_then(|v| v["build"].as_str()).map(String::from),
     }))
 }
 

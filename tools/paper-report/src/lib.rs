@@ -39,7 +39,7 @@ Exit codes: 0 success, 2 error.";
 /// Write the validation report of the paper's study (issue 8) from the
 /// beds that `make paper` (pipelines/paper.mk) has finished.
 #[derive(Debug, Parser)]
-#[command(name = "paper-report", version, after_help = EXAMPLES)]
+#[command(name = "paper-report", version = pellet_cli::LONG_VERSION, after_help = EXAMPLES)]
 pub struct Args {
     /// The bed table (CSV: config, study, shape, tube_diameter_mm (mm), seeds, scheme, cor, friction, …).
     #[arg(long, value_name = "CSV")]

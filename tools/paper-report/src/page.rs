@@ -105,6 +105,7 @@ impl Page<'_> {
                 untimed.join(", ")
             );
         }
+        let _ = writeln!(o, "- {}", builds_line(&beds));
         let _ = writeln!(o, "- Machine: {}.", self.machine);
         let _ = writeln!(o, "- Engine defaults for every bed (no per-bed tuning): `pack`'s defaults unless the table row sets COR, friction or disturbances; contact model `recommended` (the paper's model does not let a poured bed settle; see the project README).\n");
     }
@@ -246,5 +247,59 @@ impl Page<'_> {
             }
         }
         o.push('\n');
+    }
+}
+
+/// Which `pack` builds ran the finished beds, most beds first: the engine changed while the
+/// study ran, and a bed is reproduced bit for bit only by its own build.
+fn builds_line(beds: &[&crate::collect::BedResult]) -> String {
+    let mut counts: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
+    for b in beds {
+        *counts.entry(b.build.as_deref().unwrap_or("")).or_default() += 1;
+    }
+    let mut counts: Vec<(&str, usize)> = counts.into_iter().collect();
+    counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.is_empty().cmp(&b.0.is_empty())).then(a.0.cmp(b.0)));
+    let parts: Vec<String> = counts
+        .iter()
+        .map(|(build, n)| {
+            let what =
+                if build.is_empty() { "not recorded (an older `pack`)".to_string() } else { format!("`{build}`") };
+            format!("{what}: {n}")
+        })
+        .collect();
+    format!(
+        "Engine builds that ran the finished beds (`pack`'s source as recorded in each trajectory; a bed is reproduced bit for bit by its own build): {}.",
+        parts.join("; ")
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::builds_line;
+    use crate::collect::BedResult;
+
+    fn bed(build: Option<&str>) -> BedResult {
+        BedResult {
+            id: "b".into(),
+            bulk_porosity: 0.4,
+            n_dp: 4.0,
+            n_dpv: 4.0,
+            pellets: 1,
+            profile: None,
+            settled: Some(true),
+            sim_time_s: None,
+            seconds: 0.0,
+            pack_timed: true,
+            poses: None,
+            build: build.map(String::from),
+        }
+    }
+
+    #[test]
+    fn the_builds_are_counted_most_beds_first() {
+        let beds = [bed(Some("git b")), bed(None), bed(Some("git a")), bed(Some("git b"))];
+        let refs: Vec<&BedResult> = beds.iter().collect();
+        let line = builds_line(&refs);
+        assert!(line.ends_with(": `git b`: 2; `git a`: 1; not recorded (an older `pack`): 1."), "{line}");
     }
 }

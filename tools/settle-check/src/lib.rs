@@ -31,7 +31,7 @@ Exit codes: 0 settled, 1 not settled, 2 error.";
 /// is below a bound and no pellet moves faster than a speed bound. A truncated
 /// trajectory (a killed run) is read up to its last complete chunk.
 #[derive(Debug, Parser)]
-#[command(name = "settle-check", version, after_help = EXAMPLES, allow_negative_numbers = true)]
+#[command(name = "settle-check", version = pellet_cli::LONG_VERSION, after_help = EXAMPLES, allow_negative_numbers = true)]
 pub struct Args {
     /// The trajectory written by `pack` (`-` = stdin).
     #[arg(default_value = "-")]
@@ -137,6 +137,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             "reason": report.reason,
             "frame_time_s": frame.map(|f| f.time_s),
             "truncated": trajectory.truncated.is_some(),
+            // The source of the `pack` that made the trajectory (null before it was recorded).
+            "build": trajectory.run.get("build"),
         }))? + "\n"
     } else {
         render(&report, &criteria, frame, history.last().map(|s| s.pellets).unwrap_or(0))

@@ -27,6 +27,7 @@ fn write_trajectory(path: &Path, rest_at: Option<f64>) {
         provenance: &provenance,
         config_json: r#"{"density_kg_m3": 8030.0}"#,
         seed: 1,
+        build: "git 0123456789ab",
         pellet_files: &files,
         tube: &tube,
     };
@@ -89,6 +90,8 @@ fn an_unsettled_run_exits_1_and_says_why() {
     assert_eq!(out.status.code(), Some(1));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["settled"], false);
+    // The build of the `pack` that wrote the trajectory is passed on.
+    assert_eq!(v["build"], "git 0123456789ab");
     // Energy still falls linearly, by 0.15/1.15 of its value per window.
     assert!(v["reason"].as_str().unwrap().contains("kinetic energy still changes"), "{v}");
 }

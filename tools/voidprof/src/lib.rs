@@ -35,7 +35,7 @@ Exit codes: 0 success, 2 error.";
 /// Measure packed beds: radial void fraction ε(r) on coaxial cylinders, the
 /// axial profile ε(z) and the exact bulk porosity of an axial window.
 #[derive(Debug, Parser)]
-#[command(name = "voidprof", version, after_help = EXAMPLES, allow_negative_numbers = true)]
+#[command(name = "voidprof", version = pellet_cli::LONG_VERSION, after_help = EXAMPLES, allow_negative_numbers = true)]
 pub struct Args {
     /// Packing files (from settle-check); `-` reads one from stdin. Several
     /// beds give the mean profile and its spread.
