@@ -1,5 +1,5 @@
 //! Sets `PACKBED_BUILD`, the source a binary was built from: `git <commit>` (with `-dirty` when
-//! tracked files differ from that commit), or `unknown` outside a git checkout. `pack` records
+//! tracked files under `crates/`, `tools/` or the workspace manifests differ from that commit), or `unknown` outside a git checkout. `pack` records
 //! it in every trajectory, so an archived bed names the engine that made it.
 
 use std::path::Path;
@@ -14,16 +14,17 @@ fn main() {
         for watched in [".git/HEAD", ".git/logs/HEAD", ".git/index", "crates", "tools", "Cargo.toml", "Cargo.lock"] {
             println!("cargo:rerun-if-changed={}", root.join(watched).display());
         }
-        Command::new("git")
-            .arg("-C")
-            .arg(&root)
-            .args(["describe", "--always", "--dirty", "--abbrev=12", "--match", "NO-TAGS"])
-            .output()
-            .ok()
+        let git = |args: &[&str]| Command::new("git").arg("-C").arg(&root).args(args).output().ok();
+        let commit = git(&["rev-parse", "--short=12", "HEAD"])
             .filter(|o| o.status.success())
-            .and_then(|o| String::from_utf8(o.stdout).ok())
-            .map(|s| format!("git {}", s.trim()))
-            .unwrap_or_else(|| "unknown (git describe failed)".to_string())
+            .and_then(|o| String::from_utf8(o.stdout).ok());
+        // Dirty only where the binaries come from: edits of docs or bed records change no build.
+        let dirty = git(&["diff", "--quiet", "HEAD", "--", "crates", "tools", "Cargo.toml", "Cargo.lock"])
+            .is_some_and(|o| o.status.code() == Some(1));
+        match commit {
+            Some(c) => format!("git {}{}", c.trim(), if dirty { "-dirty" } else { "" }),
+            None => "unknown (git failed)".to_string(),
+        }
     } else {
         println!("cargo:rerun-if-changed=build.rs");
         "unknown (not built from a git checkout)".to_string()
