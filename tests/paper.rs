@@ -13,13 +13,14 @@ use serde_json::Value;
 /// rows that are never run (they must be reported missing), and a loading row
 /// whose bed is the validation tube's seed 1 (`same_as`).
 const TABLE: &str = "\
-config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as
+config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as,drop_height_mm
 val-sphere-D25,validation,sphere,25,2,20,0,12,one-column,,,,,6,small Table 3 tube
 cor-sphere-D25-c0.3,cor,sphere,25,1,20,0,12,one-column,0.3,0.6,0.8,45,6,COR 0.3
 cor-sphere-D25-c0.9,cor,sphere,25,1,20,0,12,one-column,0.9,0.6,0.8,45,6,COR 0.9
 mu-sphere-D25-m0.3,friction,sphere,25,2,20,0,12,one-column,0.6,0.3,0.8,45,6,never run
 load-sphere-D25-two-columns,loading,sphere,25,1,20,0,12,two-columns,,,,,6,never run
 load-sphere-D25-one-column,loading,sphere,25,1,20,0,12,one-column,,,,,6,scheme 1,val-sphere-D25
+load-sphere-D25-drop200,loading,sphere,25,1,20,0,12,one-column,,,,,6,never run,,200
 ";
 
 fn make(s: &Scenario, targets: &[&str]) -> std::process::Output {
@@ -70,11 +71,26 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
 
     // The report names exactly the beds that were not run.
     let page = std::fs::read_to_string(s.file("docs/README.md")).unwrap();
-    for id in ["mu-sphere-D25-m0.3-s1", "mu-sphere-D25-m0.3-s2", "load-sphere-D25-two-columns-s1"] {
+    for id in [
+        "mu-sphere-D25-m0.3-s1",
+        "mu-sphere-D25-m0.3-s2",
+        "load-sphere-D25-two-columns-s1",
+        "load-sphere-D25-drop200-s1",
+    ] {
         assert!(page.contains(id), "{id} not listed as missing:\n{page}");
     }
     // The same_as row is the validation bed's seed 1, counted once.
-    assert!(page.contains("Beds finished: 4 of 7"), "{page}");
+    assert!(page.contains("Beds finished: 4 of 8"), "{page}");
+    // Every finished bed's trajectory names the build of the pack that ran it (this one's).
+    let builds = page.lines().find(|l| l.starts_with("- Engine builds")).unwrap_or_else(|| panic!("{page}"));
+    assert!(builds.ends_with("`: 4.") && (builds.contains("`git ") || builds.contains("`unknown")), "{builds}");
+    // A row's drop height reaches its case file; rows without one keep pack's default.
+    let case = make(&s, &["out/cases/load-sphere-D25-drop200-s1.toml"]);
+    assert!(case.status.success(), "{}", String::from_utf8_lossy(&case.stderr));
+    assert!(std::fs::read_to_string(s.file("out/cases/load-sphere-D25-drop200-s1.toml"))
+        .unwrap()
+        .contains("\ndrop-height = 200\n"));
+    assert!(!std::fs::read_to_string(s.file("out/cases/val-sphere-D25-s1.toml")).unwrap().contains("drop-height"));
     let scheme1 = page.lines().find(|l| l.starts_with("| load-sphere-D25-one-column (the beds of val-sphere-D25)"));
     let v1 = json(s.file("out/runs/val-sphere-D25-s1.summary.json"))["bulk_porosity"].as_f64().unwrap();
     assert!(scheme1.is_some_and(|l| l.contains(&format!("{v1:.4} ± 0.0000"))), "{scheme1:?} {v1}\n{page}");
@@ -174,7 +190,7 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
     assert!(report.status.success(), "report from the archive alone: {}", String::from_utf8_lossy(&report.stderr));
     assert_eq!(std::fs::read(s.file("docs/summary.json")).unwrap(), before, "summary.json changed");
     assert_eq!(std::fs::read(s.file("docs/beds/val-sphere-D25-s1.csv")).unwrap(), beds_before);
-    assert!(std::fs::read_to_string(s.file("docs/README.md")).unwrap().contains("Beds finished: 4 of 7"));
+    assert!(std::fs::read_to_string(s.file("docs/README.md")).unwrap().contains("Beds finished: 4 of 8"));
 
     // --repeats 1 counts seed 1 only.
     s.run("paper-report", &["--table", "beds.csv", "--runs", "docs/runs", "--repeats", "1", "-o", "r1"]).success();
@@ -196,7 +212,7 @@ fn an_interrupted_paper_bed_is_resumed_by_the_next_make() {
     use std::os::unix::process::CommandExt;
     let s = Scenario::new();
     let table = "\
-config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as
+config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as,drop_height_mm
 val-sphere-D25,validation,sphere,25,1,120,0,40,one-column,,,,,8,taller tube
 ";
     std::fs::write(s.file("beds.csv"), table).unwrap();

@@ -20,5 +20,6 @@ NR > 1 {
     if ($12 != "") printf "position-jitter = %s\n", $12
     if ($13 != "") printf "angle-jitter = %s\n", $13
     if ($14 != "") printf "max-time = %s\n", $14
+    if ($17 != "") printf "drop-height = %s\n", $17
 }
 END { if (!found) { print "case.awk: no row for bed " id > "/dev/stderr"; exit 2 } }
