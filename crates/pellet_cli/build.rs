@@ -1,5 +1,6 @@
 //! Sets `PACKBED_BUILD`, the source a binary was built from: `git <commit>` (with `-dirty` when
-//! tracked files under `crates/`, `tools/` or the workspace manifests differ from that commit), or `unknown` outside a git checkout. `pack` records
+//! files under `crates/`, `tools/` or the workspace manifests differ from that commit, new files
+//! included), or `unknown` outside a git checkout. `pack` records
 //! it in every trajectory, so an archived bed names the engine that made it.
 
 use std::path::Path;
@@ -18,9 +19,10 @@ fn main() {
         let commit = git(&["rev-parse", "--short=12", "HEAD"])
             .filter(|o| o.status.success())
             .and_then(|o| String::from_utf8(o.stdout).ok());
-        // Dirty only where the binaries come from: edits of docs or bed records change no build.
-        let dirty = git(&["diff", "--quiet", "HEAD", "--", "crates", "tools", "Cargo.toml", "Cargo.lock"])
-            .is_some_and(|o| o.status.code() == Some(1));
+        // Dirty only where the binaries come from (edits of docs or bed records change no build),
+        // counting files not yet added: a new module is compiled before it is committed.
+        let dirty = git(&["status", "--porcelain", "--", "crates", "tools", "Cargo.toml", "Cargo.lock"])
+            .is_some_and(|o| o.status.success() && !o.stdout.is_empty());
         match commit {
             Some(c) => format!("git {}{}", c.trim(), if dirty { "-dirty" } else { "" }),
             None => "unknown (git failed)".to_string(),
