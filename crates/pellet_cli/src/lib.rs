@@ -27,8 +27,9 @@ pub enum Outcome {
 /// Exit code for errors.
 pub const EXIT_ERROR: u8 = 2;
 
-/// The source this binary was built from: `git <commit>` (`-dirty` when tracked files had
-/// changes), or `unknown (…)` outside a git checkout. Set by the build script.
+/// The source this binary was built from: `git <commit>` (`-dirty` when files under `crates/`,
+/// `tools/` or the workspace manifests differed from it), or `unknown (…)` outside a git
+/// checkout. Set by the build script.
 pub const BUILD: &str = env!("PACKBED_BUILD");
 
 /// `--version`'s text: the package version and [`BUILD`].

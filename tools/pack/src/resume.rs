@@ -113,8 +113,8 @@ impl Source {
 /// See [`Source::build_history`].
 fn build_history(recorded: Option<&str>, resumed_at_s: f64, current: &str) -> String {
     let recorded = recorded.unwrap_or("unrecorded");
-    let last_leg = recorded.rsplit(" s ").next().unwrap_or(recorded);
-    if last_leg == current {
+    // `current` made the last leg: the whole history, or its part after the last "… s ".
+    if recorded == current || recorded.ends_with(&format!(" s {current}")) {
         recorded.to_string()
     } else {
         format!("{recorded}; from t = {resumed_at_s:.3} s {current}")
