@@ -84,6 +84,15 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
     // Every finished bed's trajectory names the build of the pack that ran it (this one's).
     let builds = page.lines().find(|l| l.starts_with("- Engine builds")).unwrap_or_else(|| panic!("{page}"));
     assert!(builds.ends_with("`: 4.") && (builds.contains("`git ") || builds.contains("`unknown")), "{builds}");
+    // The progress table: rows pooled per study and tube, the same_as row left to the bed it names.
+    for line in [
+        "| validation | sphere | 25 | 2 of 2 | ",
+        "| cor | sphere | 25 | 2 of 2 | ",
+        "| friction | sphere | 25 | 0 of 2 | — | 0 | — |",
+        "| loading | sphere | 25 | 0 of 2 | — | 0 | — |",
+    ] {
+        assert!(page.contains(line), "no progress line {line}:\n{page}");
+    }
     // A row's drop height reaches its case file; rows without one keep pack's default.
     let case = make(&s, &["out/cases/load-sphere-D25-drop200-s1.toml"]);
     assert!(case.status.success(), "{}", String::from_utf8_lossy(&case.stderr));

@@ -19,6 +19,7 @@ pub mod analysis;
 pub mod collect;
 pub mod figures;
 pub mod page;
+pub mod progress;
 pub mod stats;
 pub mod summary;
 pub mod table;

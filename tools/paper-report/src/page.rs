@@ -61,6 +61,7 @@ impl Page<'_> {
         self.validation_tables(&mut o);
         self.loading(&mut o);
         self.trends(&mut o);
+        crate::progress::render(&crate::progress::progress(self.groups), &mut o);
         let _ = writeln!(o, "## Figures\n");
         for (caption, file) in &self.figures {
             let _ = writeln!(o, "![{caption}]({file})\n\n*{caption}*\n");

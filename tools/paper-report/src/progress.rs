@@ -1,0 +1,178 @@
+//! The report's progress table: for each study, shape and tube, how many of the planned beds
+//! have finished, how many of those did not settle, their compute time, and which `pack` builds
+//! ran them. The study ran over many sessions while the engine changed, so the page must show
+//! which parts of it come from which engine, not only one count for the whole study.
+
+use std::fmt::Write;
+
+use crate::collect::Group;
+
+/// One line of the table: every row of the bed table with the same study, shape and tube.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Progress {
+    /// `validation`, `loading`, `cor` or `friction`.
+    pub study: String,
+    /// Pellet shape name.
+    pub shape: &'static str,
+    /// Tube inner diameter (mm).
+    pub tube_diameter_mm: f64,
+    /// Beds of these rows (finished or not).
+    pub planned: usize,
+    /// Beds finished.
+    pub finished: usize,
+    /// Finished beds that reached pack's time limit unsettled.
+    pub unsettled: usize,
+    /// Recorded wall time of the finished beds (s).
+    pub seconds: f64,
+    /// Builds that ran the finished beds with their counts, most beds first; `None` for beds
+    /// made by a `pack` from before builds were recorded.
+    pub builds: Vec<(Option<String>, usize)>,
+}
+
+/// The table, in the bed table's order. A `same_as` row is left out: its beds are those of the
+/// row it names and are counted there.
+pub fn progress(groups: &[Group]) -> Vec<Progress> {
+    let mut lines: Vec<Progress> = Vec::new();
+    for g in groups.iter().filter(|g| g.row.same_as.is_none()) {
+        let (study, shape, d) = (&g.row.study, g.row.shape.name(), g.row.tube_diameter_mm);
+        let at = match lines.iter().position(|p| &p.study == study && p.shape == shape && p.tube_diameter_mm == d) {
+            Some(i) => i,
+            None => {
+                lines.push(Progress {
+                    study: study.clone(),
+                    shape,
+                    tube_diameter_mm: d,
+                    planned: 0,
+                    finished: 0,
+                    unsettled: 0,
+                    seconds: 0.0,
+                    builds: Vec::new(),
+                });
+                lines.len() - 1
+            }
+        };
+        let p = &mut lines[at];
+        p.planned += g.beds.len() + g.missing.len();
+        p.finished += g.beds.len();
+        p.unsettled += g.beds.iter().filter(|b| b.settled == Some(false)).count();
+        p.seconds += g.beds.iter().map(|b| b.seconds).sum::<f64>();
+        for b in &g.beds {
+            match p.builds.iter_mut().find(|(build, _)| *build == b.build) {
+                Some((_, n)) => *n += 1,
+                None => p.builds.push((b.build.clone(), 1)),
+            }
+        }
+    }
+    for p in &mut lines {
+        // Most beds first; ties: recorded builds before unrecorded ones, then by name.
+        p.builds.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.is_none().cmp(&b.0.is_none())).then(a.0.cmp(&b.0)));
+    }
+    lines
+}
+
+/// Writes the table as a Markdown section.
+pub fn render(lines: &[Progress], o: &mut String) {
+    let _ = writeln!(o, "## Progress by study and tube\n");
+    let _ = writeln!(o, "Which beds have finished and which `pack` build ran them (`git <commit>` of the build's source; \"older\" = a `pack` from before builds were recorded). A bed is reproduced bit for bit only by its own build.\n");
+    let _ = writeln!(o, "| study | shape | D (mm) | finished | not settled | compute (s) | builds |");
+    let _ = writeln!(o, "|---|---|---|---|---|---|---|");
+    for p in lines {
+        let builds: Vec<String> = p
+            .builds
+            .iter()
+            .map(|(build, n)| match build {
+                Some(b) => format!("`{}` {n}", b.strip_prefix("git ").unwrap_or(b)),
+                None => format!("older {n}"),
+            })
+            .collect();
+        let builds = if builds.is_empty() { "—".to_string() } else { builds.join(", ") };
+        let unsettled = if p.unsettled == 0 { "—".to_string() } else { p.unsettled.to_string() };
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {} of {} | {unsettled} | {:.0} | {builds} |",
+            p.study, p.shape, p.tube_diameter_mm, p.finished, p.planned, p.seconds
+        );
+    }
+    o.push('\n');
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collect::BedResult;
+    use crate::table::Row;
+    use pellet_refs::Shape;
+
+    fn bed(id: &str, build: Option<&str>, settled: bool, seconds: f64) -> BedResult {
+        BedResult {
+            id: id.into(),
+            bulk_porosity: 0.4,
+            n_dp: 4.0,
+            n_dpv: 4.0,
+            pellets: 1,
+            profile: None,
+            settled: Some(settled),
+            sim_time_s: None,
+            seconds,
+            pack_timed: true,
+            poses: None,
+            build: build.map(String::from),
+        }
+    }
+
+    fn group(
+        config: &str,
+        study: &str,
+        d: f64,
+        same_as: Option<&str>,
+        beds: Vec<BedResult>,
+        missing: &[&str],
+    ) -> Group {
+        Group {
+            row: Row {
+                config: config.into(),
+                study: study.into(),
+                shape: Shape::Sphere,
+                tube_diameter_mm: d,
+                seeds: (beds.len() + missing.len()) as u32,
+                cor: None,
+                friction: None,
+                scheme: "one-column".into(),
+                label: String::new(),
+                same_as: same_as.map(String::from),
+            },
+            beds,
+            missing: missing.iter().map(|m| m.to_string()).collect(),
+        }
+    }
+
+    /// Rows of one study and tube are pooled, a `same_as` row is not counted twice, and each
+    /// line counts its own builds, unsettled beds and time.
+    #[test]
+    fn rows_of_a_tube_are_pooled_and_shared_beds_counted_once() {
+        let groups = [
+            group("val-31", "validation", 31.0, None, vec![bed("v1", Some("git a"), true, 3600.0)], &["v2"]),
+            group("cor-31-c0.05", "cor", 31.0, None, vec![bed("c1", None, true, 1800.0)], &[]),
+            group(
+                "cor-31-c0.95",
+                "cor",
+                31.0,
+                None,
+                vec![bed("d1", Some("git b"), false, 900.0), bed("d2", Some("git b"), true, 900.0)],
+                &["d3"],
+            ),
+            group("load-31", "loading", 31.0, Some("val-31"), vec![bed("v1", Some("git a"), true, 3600.0)], &["v2"]),
+        ];
+        let lines = progress(&groups);
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert_eq!((lines[0].finished, lines[0].planned, lines[0].unsettled), (1, 2, 0));
+        let cor = &lines[1];
+        assert_eq!((cor.study.as_str(), cor.finished, cor.planned, cor.unsettled), ("cor", 3, 4, 1));
+        assert_eq!(cor.seconds, 3600.0);
+        assert_eq!(cor.builds, vec![(Some("git b".to_string()), 2), (None, 1)]);
+        let mut page = String::new();
+        render(&lines, &mut page);
+        assert!(page.contains("| cor | sphere | 31 | 3 of 4 | 1 | 3600 | `b` 2, older 1 |"), "{page}");
+        assert!(page.contains("| validation | sphere | 31 | 1 of 2 | — | 3600 | `a` 1 |"), "{page}");
+    }
+}
