@@ -47,6 +47,33 @@ pub fn dixon(shape: Shape, n_dp: f64, n_dpv: f64) -> f64 {
     }
 }
 
+/// The spread of the literature at one tube: the lowest and highest ε of the shape's bulk
+/// correlations of the form ε(N) graded A or B whose range holds the tube's N (each at its own
+/// N definition), and how many there are. Dixon's is one of them; where our porosity misses
+/// Dixon but lies inside this range, the miss is within the literature's own disagreement.
+/// `None` when no such correlation applies (rings).
+pub fn correlation_range(shape: Shape, n_dp: f64, n_dpv: f64) -> Option<(f64, f64, usize)> {
+    use pellet_refs::{bulk::Formula, Grade, NDefinition};
+    let values: Vec<f64> = bulk::BULK
+        .iter()
+        .filter(|c| c.shape == shape && matches!(c.grade, Grade::A | Grade::B))
+        .filter_map(|c| {
+            let n = match c.n_definition {
+                NDefinition::DOverDp => n_dp,
+                NDefinition::DOverDpv => n_dpv,
+                NDefinition::DOverDpvEnvelope => return None,
+            };
+            match c.formula {
+                Formula::OfN(f) if c.n_range.contains(n) => Some(f(n)),
+                _ => None,
+            }
+        })
+        .collect();
+    let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (!values.is_empty()).then_some((lo, hi, values.len()))
+}
+
 /// The validation tubes of one shape (finished ones only) and their MRE.
 pub fn validation(groups: &[Group], shape: Shape) -> (Vec<TubeResult>, Option<f64>) {
     let tubes: Vec<TubeResult> = groups
@@ -199,4 +226,26 @@ pub fn parameter_study(groups: &[Group], study: &str) -> Vec<StudySeries> {
         s.slope = slope(pts);
     }
     series
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Spheres: the five A/B correlations of the form ε(N) valid at N = 4.1 (Dixon, Foumeny,
+    /// Benyahia–O'Neill, Cheng, Sato), lowest Cheng, highest Sato. Cylinders: each at its own N
+    /// (both at D/dpv; Pushnov's, grade C, left out). Rings: none.
+    #[test]
+    fn the_correlation_range_takes_each_at_its_own_n() {
+        let (lo, hi, k) = correlation_range(Shape::Sphere, 4.1, 4.1).unwrap();
+        assert_eq!(k, 5);
+        assert_eq!((lo, hi), (bulk::cheng_2011_spheres(4.1), bulk::sato_1973_spheres(4.1)));
+        assert!(lo < bulk::dixon_1988_spheres(4.1) && bulk::dixon_1988_spheres(4.1) < hi);
+        // Below 4 the dense Zou–Yu form (grade C, N ≥ 4) never counts; at 1.7 only three apply.
+        assert_eq!(correlation_range(Shape::Sphere, 1.7, 1.7).unwrap().2, 3);
+        let (lo, hi, k) = correlation_range(Shape::Cylinder, 4.69, 4.10).unwrap();
+        let (a, b) = (bulk::dixon_1988_cylinders(4.10), bulk::benyahia_oneill_2005_cylinders(4.10));
+        assert_eq!((lo, hi, k), (a.min(b), a.max(b), 2));
+        assert_eq!(correlation_range(Shape::Ring, 4.0, 4.1), None);
+    }
 }
