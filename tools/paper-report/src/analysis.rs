@@ -241,7 +241,7 @@ mod tests {
         assert_eq!(k, 5);
         assert_eq!((lo, hi), (bulk::cheng_2011_spheres(4.1), bulk::sato_1973_spheres(4.1)));
         assert!(lo < bulk::dixon_1988_spheres(4.1) && bulk::dixon_1988_spheres(4.1) < hi);
-        // Below 4 the dense Zou–Yu form (grade C, N ≥ 4) never counts; at 1.7 only three apply.
+        // At N = 1.7 only Dixon, Benyahia–O'Neill and Cheng apply (Foumeny from 1.87, Sato from 2).
         assert_eq!(correlation_range(Shape::Sphere, 1.7, 1.7).unwrap().2, 3);
         let (lo, hi, k) = correlation_range(Shape::Cylinder, 4.69, 4.10).unwrap();
         let (a, b) = (bulk::dixon_1988_cylinders(4.10), bulk::benyahia_oneill_2005_cylinders(4.10));
