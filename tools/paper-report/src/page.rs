@@ -262,17 +262,11 @@ impl Page<'_> {
 /// Which `pack` builds ran the finished beds, most beds first: the engine changed while the
 /// study ran, and a bed is reproduced bit for bit only by its own build.
 fn builds_line(beds: &[&crate::collect::BedResult]) -> String {
-    let mut counts: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
-    for b in beds {
-        *counts.entry(b.build.as_deref().unwrap_or("")).or_default() += 1;
-    }
-    let mut counts: Vec<(&str, usize)> = counts.into_iter().collect();
-    counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.is_empty().cmp(&b.0.is_empty())).then(a.0.cmp(b.0)));
+    let counts = crate::progress::merge_builds(beds.iter().map(|b| (b.build.clone(), 1)));
     let parts: Vec<String> = counts
         .iter()
         .map(|(build, n)| {
-            let what =
-                if build.is_empty() { "not recorded (an older `pack`)".to_string() } else { format!("`{build}`") };
+            let what = build.as_ref().map_or("not recorded (an older `pack`)".to_string(), |b| format!("`{b}`"));
             format!("{what}: {n}")
         })
         .collect();

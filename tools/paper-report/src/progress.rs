@@ -56,18 +56,24 @@ pub fn progress(groups: &[Group]) -> Vec<Progress> {
         p.finished += g.beds.len();
         p.unsettled += g.beds.iter().filter(|b| b.settled == Some(false)).count();
         p.seconds += g.beds.iter().map(|b| b.seconds).sum::<f64>();
-        for b in &g.beds {
-            match p.builds.iter_mut().find(|(build, _)| *build == b.build) {
-                Some((_, n)) => *n += 1,
-                None => p.builds.push((b.build.clone(), 1)),
-            }
-        }
-    }
-    for p in &mut lines {
-        // Most beds first; ties: recorded builds before unrecorded ones, then by name.
-        p.builds.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.is_none().cmp(&b.0.is_none())).then(a.0.cmp(&b.0)));
+        let mut builds: Vec<(Option<String>, usize)> = std::mem::take(&mut p.builds);
+        builds.extend(g.beds.iter().map(|b| (b.build.clone(), 1)));
+        p.builds = merge_builds(builds);
     }
     lines
+}
+
+/// How many finished beds each build ran, from `(build, count)` pairs (a build may repeat), most
+/// beds first; ties: recorded builds before unrecorded ones, then by name. `None` is a bed made
+/// by a `pack` from before builds were recorded. The Status line and this table both count so.
+pub fn merge_builds(pairs: impl IntoIterator<Item = (Option<String>, usize)>) -> Vec<(Option<String>, usize)> {
+    let mut counts: std::collections::BTreeMap<Option<String>, usize> = std::collections::BTreeMap::new();
+    for (build, n) in pairs {
+        *counts.entry(build).or_default() += n;
+    }
+    let mut counts: Vec<(Option<String>, usize)> = counts.into_iter().collect();
+    counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.is_none().cmp(&b.0.is_none())).then(a.0.cmp(&b.0)));
+    counts
 }
 
 /// Writes the table as a Markdown section.
