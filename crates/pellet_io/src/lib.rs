@@ -85,6 +85,7 @@
 mod atomic;
 pub mod foxglove;
 mod framed;
+mod mcap_records;
 mod mesh_files;
 mod packing_file;
 mod pellet_file;

@@ -426,15 +426,14 @@ pub struct Trajectory {
 /// `truncated` saying so; a file that is not MCAP at all is an error.
 pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> {
     use mcap::records::Record;
-    let p = Path::new(path);
     if bytes.len() < 8 || &bytes[..8] != mcap::MAGIC {
         return Err(IoError::Corrupt {
             path: path.into(),
             reason: "not an MCAP file (bad magic); `pack` writes trajectories".into(),
         });
     }
-    let reader = mcap::read::ChunkFlattener::new_with_options(bytes, mcap::read::Options::IgnoreEndMagic.into())
-        .map_err(mcap_error(p))?;
+    // Not mcap's ChunkFlattener: it sets no bound on record lengths (`mcap_records`).
+    let reader = crate::mcap_records::Records::new(bytes);
     let mut out = Trajectory {
         run: BTreeMap::new(),
         pellet_files: Vec::new(),

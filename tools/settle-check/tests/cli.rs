@@ -128,6 +128,39 @@ fn a_truncated_trajectory_is_read_up_to_its_last_chunk() {
     assert!(t > 0.2 && t < 1.0, "final time {t}");
 }
 
+/// Byte offsets of the chunk records (opcode 0x06) of an MCAP file, walking its records.
+fn chunk_offsets(bytes: &[u8]) -> Vec<usize> {
+    let (mut at, mut out) = (8, Vec::new());
+    while at + 9 <= bytes.len() {
+        let len = u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap()) as usize;
+        if bytes[at] == 0x06 {
+            out.push(at);
+        }
+        at += 9 + len;
+    }
+    out
+}
+
+#[test]
+fn a_chunk_with_a_corrupt_size_is_read_up_to_that_chunk_not_aborted_on() {
+    // Read through mcap's ChunkFlattener, which bounds no record length, this chunk made
+    // settle-check abort asking the allocator for 5e17 bytes (pellet_io's `mcap_records`).
+    let dir = tempfile::tempdir().unwrap();
+    write_trajectory(&dir.path().join("bed.mcap"), Some(0.4));
+    let mut bytes = std::fs::read(dir.path().join("bed.mcap")).unwrap();
+    let chunks = chunk_offsets(&bytes);
+    assert!(chunks.len() >= 2, "the 1 s run has several chunks: {chunks:?}");
+    let size_field = chunks[chunks.len() - 1] + 9 + 16;
+    bytes[size_field..size_field + 8].copy_from_slice(&506_381_209_866_536_720u64.to_le_bytes());
+    std::fs::write(dir.path().join("bad.mcap"), &bytes).unwrap();
+    let out = settle_check(dir.path(), &["bad.mcap", "--json"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(matches!(out.status.code(), Some(0) | Some(1)), "{err}");
+    assert!(err.contains("bad.mcap is truncated ("), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["truncated"], true, "{v}");
+}
+
 #[test]
 fn bad_input_is_a_one_line_error_with_exit_2() {
     let dir = tempfile::tempdir().unwrap();
