@@ -107,7 +107,13 @@ impl Page<'_> {
             );
         }
         let _ = writeln!(o, "- {}", builds_line(&beds));
-        let _ = writeln!(o, "- Machine: {}.", self.machine);
+        // The records do not say which machine ran each bed, and the sessions' machines differ
+        // in CPU model (AMD EPYC for every report up to 2026-11-25, Intel Xeon since).
+        let _ = writeln!(
+            o,
+            "- Machine: this report was written on {}. The compute time above was measured on the machines of the sessions that ran each bed, all of this kind (2 logical cores) but not all of one CPU model (see `docs/paper-study-log.md`), so it mixes machines.",
+            self.machine
+        );
         let _ = writeln!(o, "- Engine defaults for every bed (no per-bed tuning): `pack`'s defaults unless the table row sets COR, friction or disturbances; contact model `recommended` (the paper's model does not let a poured bed settle; see the project README).\n");
     }
 
