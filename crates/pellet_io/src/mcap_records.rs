@@ -11,8 +11,9 @@ use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use mcap::McapResult;
 
 /// Longest record accepted, uncompressed: the file's own length times 64 or 64 MiB, whichever is
-/// larger, and never over 1 GiB. `pack`'s largest records (checkpoints of a thousand-pellet bed)
-/// are a few MB; zstd packs its records 2–10 to one.
+/// larger, and never over 1 GiB. `pack`'s records (a frame, an energy record, a checkpoint of one
+/// bed, the pellet file) are far below that, and no record inside a chunk can be longer than the
+/// chunk uncompressed, which zstd keeps within a small multiple of the file.
 pub fn record_length_limit(file_len: usize) -> usize {
     file_len.saturating_mul(64).clamp(64 << 20, 1 << 30)
 }
