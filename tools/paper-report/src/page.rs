@@ -220,9 +220,10 @@ impl Page<'_> {
                 "—".into()
             };
             let (eps, dixon) = match (mean_std(&g.porosities()), g.beds.first()) {
-                (Some((m, s)), Some(b)) => {
-                    (format!("{m:.4} ± {s:.4}"), format!("{:.4}", crate::analysis::dixon(g.row.shape, b.n_dp, b.n_dpv)))
-                }
+                (Some((m, s)), Some(b)) => (
+                    mean_and_spread(m, s, g.beds.len()),
+                    format!("{:.4}", crate::analysis::dixon(g.row.shape, b.n_dp, b.n_dpv)),
+                ),
                 _ => ("missing".into(), "—".into()),
             };
             let bed = match &g.row.same_as {
@@ -244,7 +245,7 @@ impl Page<'_> {
 
     fn trends(&self, o: &mut String) {
         let _ = writeln!(o, "## COR and friction (the paper's Figs. 10–11)\n");
-        let _ = writeln!(o, "The paper found denser beds (lower ε) at higher COR and at lower friction; the friction effect about 1.5 times the COR effect. Slope: least squares of ε over every bed of the series.\n");
+        let _ = writeln!(o, "The paper found denser beds (lower ε) at higher COR and at lower friction; the friction effect about 1.5 times the COR effect. Slope: least squares of ε over every bed of the series. A value of one bed has no spread, so it shows no ± std.\n");
         let _ = writeln!(o, "| study | series | values (ε mean ± std, beds) | slope dε/dx | as the paper? |");
         let _ = writeln!(o, "|---|---|---|---|---|");
         if self.cor.is_empty() && self.friction.is_empty() {
@@ -253,7 +254,7 @@ impl Page<'_> {
         for (study, series, paper_sign) in [("COR", self.cor, -1.0), ("friction", self.friction, 1.0)] {
             for s in series {
                 let vals: Vec<String> =
-                    s.points.iter().map(|p| format!("{}: {:.4} ± {:.4} ({})", p.0, p.1, p.2, p.3)).collect();
+                    s.points.iter().map(|p| format!("{}: {} ({})", p.0, mean_and_spread(p.1, p.2, p.3), p.3)).collect();
                 let (slope, agree) = match s.slope {
                     Some(k) => (format!("{k:+.4}"), if k * paper_sign > 0.0 { "yes" } else { "**no**" }),
                     None => ("—".into(), "—"),
@@ -262,6 +263,16 @@ impl Page<'_> {
             }
         }
         o.push('\n');
+    }
+}
+
+/// "mean ± std" of `n` beds; the mean alone for one bed, whose spread is unknown rather than
+/// zero.
+fn mean_and_spread(mean: f64, std: f64, n: usize) -> String {
+    if n > 1 {
+        format!("{mean:.4} ± {std:.4}")
+    } else {
+        format!("{mean:.4}")
     }
 }
 
@@ -284,7 +295,7 @@ fn builds_line(beds: &[&crate::collect::BedResult]) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::builds_line;
+    use super::{builds_line, mean_and_spread};
     use crate::collect::BedResult;
 
     fn bed(build: Option<&str>) -> BedResult {
@@ -310,5 +321,12 @@ mod tests {
         let refs: Vec<&BedResult> = beds.iter().collect();
         let line = builds_line(&refs);
         assert!(line.ends_with(": `git b`: 2; `git a`: 1; not recorded (an older `pack`): 1."), "{line}");
+    }
+
+    #[test]
+    fn one_bed_shows_its_value_without_a_spread() {
+        assert_eq!(mean_and_spread(0.46694, 0.0, 1), "0.4669");
+        assert_eq!(mean_and_spread(0.4669, 0.0123, 3), "0.4669 ± 0.0123");
+        assert_eq!(mean_and_spread(0.4669, 0.0, 2), "0.4669 ± 0.0000");
     }
 }
