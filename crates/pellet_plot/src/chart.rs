@@ -57,8 +57,21 @@ fn register_fonts() {
     });
 }
 
-/// Colours for simulated series, then references (distinct on white).
-const SERIES_COLORS: [RGBColor; 3] = [RGBColor(0, 0, 0), RGBColor(90, 90, 90), RGBColor(150, 150, 150)];
+/// Colours for simulated series, then references (distinct on white). The series colours are
+/// black and greys first (a profile's one simulated series stays black beside the coloured
+/// references), then dark colours that no reference uses, so that a chart of four or more
+/// series (porosity against COR: two sphere and two cylinder series) never repeats one.
+const SERIES_COLORS: [RGBColor; 6] = [
+    RGBColor(0, 0, 0),
+    RGBColor(90, 90, 90),
+    RGBColor(150, 150, 150),
+    RGBColor(128, 0, 0),
+    RGBColor(0, 100, 0),
+    RGBColor(75, 0, 130),
+];
+/// A series of at most this many points is drawn with a marker at each point (a study's
+/// discrete values), a longer one (a profile) as a line only.
+const MARKED_SERIES_MAX_POINTS: usize = 30;
 const REF_COLORS: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -167,11 +180,17 @@ impl Chart<'_> {
             }
             let label = if s.spread.is_some() { format!("{} (± spread)", s.label) } else { s.label.clone() };
             let line = s.x.iter().copied().zip(s.y.iter().copied());
-            chart
-                .draw_series(LineSeries::new(line, color.stroke_width(2)))
-                .map_err(e)?
-                .label(label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], color.stroke_width(2)));
+            let marked = s.x.len() <= MARKED_SERIES_MAX_POINTS;
+            if marked {
+                chart.draw_series(line.clone().map(|p| Circle::new(p, 4, color.filled()))).map_err(e)?;
+            }
+            chart.draw_series(LineSeries::new(line, color.stroke_width(2))).map_err(e)?.label(label).legend(
+                move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + Circle::new((11, 0), if marked { 4 } else { 0 }, color.filled())
+                        + PathElement::new(vec![(0, 0), (22, 0)], color.stroke_width(2))
+                },
+            );
         }
         // Palette colours go to the curves without an explicit one, in order.
         let mut next = 0;
@@ -244,6 +263,18 @@ fn write_atomically(path: &Path, ext: &str, write: impl FnOnce(&Path) -> Result<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn series_colours_are_distinct_from_each_other_and_from_the_references() {
+        let rgb = |c: &RGBColor| (c.0, c.1, c.2);
+        for (i, a) in SERIES_COLORS.iter().enumerate() {
+            for b in &SERIES_COLORS[i + 1..] {
+                assert_ne!(rgb(a), rgb(b), "two series share a colour");
+            }
+            assert!(REF_COLORS.iter().all(|r| rgb(r) != rgb(a)), "series colour {:?} is a reference colour", rgb(a));
+        }
+        assert!(SERIES_COLORS.len() >= 4, "the COR and friction charts draw four series");
+    }
 
     #[test]
     fn format_follows_the_extension() {
