@@ -97,6 +97,16 @@ impl Page<'_> {
             self.compute_seconds,
             self.compute_seconds / 3600.0
         );
+        if !missing.is_empty() {
+            let (estimate, unknown) = crate::progress::missing_total(&crate::progress::progress(self.groups));
+            let _ = writeln!(
+                o,
+                "- Estimated compute for the missing beds: {estimate:.0} s ({:.1} h), each at the mean of the finished beds of its study, shape and tube (Progress, below); with the finished beds', about {:.0} h for the whole study{}.",
+                estimate / 3600.0,
+                (estimate + self.compute_seconds) / 3600.0,
+                if unknown > 0 { format!("; {unknown} missing beds have no finished bed to go by and are not in it") } else { String::new() }
+            );
+        }
         let untimed: Vec<&str> = beds.iter().filter(|b| !b.pack_timed).map(|b| b.id.as_str()).collect();
         if !untimed.is_empty() {
             let _ = writeln!(

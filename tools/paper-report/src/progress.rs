@@ -24,6 +24,8 @@ pub struct Progress {
     pub unsettled: usize,
     /// Recorded wall time of the finished beds (s).
     pub seconds: f64,
+    /// Finished beds whose run times were kept (the others add nothing to `seconds`).
+    pub timed: usize,
     /// Builds that ran the finished beds with their counts, most beds first; `None` for beds
     /// made by a `pack` from before builds were recorded.
     pub builds: Vec<(Option<String>, usize)>,
@@ -46,6 +48,7 @@ pub fn progress(groups: &[Group]) -> Vec<Progress> {
                     finished: 0,
                     unsettled: 0,
                     seconds: 0.0,
+                    timed: 0,
                     builds: Vec::new(),
                 });
                 lines.len() - 1
@@ -56,11 +59,36 @@ pub fn progress(groups: &[Group]) -> Vec<Progress> {
         p.finished += g.beds.len();
         p.unsettled += g.beds.iter().filter(|b| b.settled == Some(false)).count();
         p.seconds += g.beds.iter().map(|b| b.seconds).sum::<f64>();
+        p.timed += g.beds.iter().filter(|b| b.pack_timed).count();
         let mut builds: Vec<(Option<String>, usize)> = std::mem::take(&mut p.builds);
         builds.extend(g.beds.iter().map(|b| (b.build.clone(), 1)));
         p.builds = merge_builds(builds);
     }
     lines
+}
+
+impl Progress {
+    /// The compute the line's missing beds would take, each at the mean time of the line's
+    /// finished and timed beds (same study, shape and tube): `Some(0)` when none is missing,
+    /// `None` when some are but no finished bed gives a time to go by.
+    pub fn missing_estimate(&self) -> Option<f64> {
+        let missing = self.planned - self.finished;
+        if missing == 0 {
+            Some(0.0)
+        } else if self.timed == 0 {
+            None
+        } else {
+            Some(missing as f64 * self.seconds / self.timed as f64)
+        }
+    }
+}
+
+/// The estimated compute of all missing beds (s) and how many missing beds have no estimate.
+pub fn missing_total(lines: &[Progress]) -> (f64, usize) {
+    lines.iter().fold((0.0, 0), |(sum, unknown), p| match p.missing_estimate() {
+        Some(s) => (sum + s, unknown),
+        None => (sum, unknown + p.planned - p.finished),
+    })
 }
 
 /// How many finished beds each build ran, from `(build, count)` pairs (a build may repeat), most
@@ -80,8 +108,15 @@ pub fn merge_builds(pairs: impl IntoIterator<Item = (Option<String>, usize)>) ->
 pub fn render(lines: &[Progress], o: &mut String) {
     let _ = writeln!(o, "## Progress by study and tube\n");
     let _ = writeln!(o, "Which beds have finished and which `pack` build ran them (`git <commit>` of the build's source; \"older\" = a `pack` from before builds were recorded). A bed is reproduced bit for bit only by its own build.\n");
-    let _ = writeln!(o, "| study | shape | D (mm) | finished | not settled | compute (s) | builds |");
-    let _ = writeln!(o, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(
+        o,
+        "The estimate for the missing beds takes each at the mean compute of the finished beds of its line.\n"
+    );
+    let _ = writeln!(
+        o,
+        "| study | shape | D (mm) | finished | not settled | compute (s) | missing beds, estimated (s) | builds |"
+    );
+    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|");
     for p in lines {
         let builds: Vec<String> = p
             .builds
@@ -93,9 +128,14 @@ pub fn render(lines: &[Progress], o: &mut String) {
             .collect();
         let builds = if builds.is_empty() { "—".to_string() } else { builds.join(", ") };
         let unsettled = if p.unsettled == 0 { "—".to_string() } else { p.unsettled.to_string() };
+        let estimate = match (p.planned - p.finished, p.missing_estimate()) {
+            (0, _) => "—".to_string(),
+            (_, Some(s)) => format!("{s:.0}"),
+            (_, None) => "no finished bed to go by".to_string(),
+        };
         let _ = writeln!(
             o,
-            "| {} | {} | {} | {} of {} | {unsettled} | {:.0} | {builds} |",
+            "| {} | {} | {} | {} of {} | {unsettled} | {:.0} | {estimate} | {builds} |",
             p.study, p.shape, p.tube_diameter_mm, p.finished, p.planned, p.seconds
         );
     }
@@ -152,6 +192,25 @@ mod tests {
         }
     }
 
+    /// A missing bed is estimated from its line's timed beds only; a line with none has no
+    /// estimate, and its missing beds are counted as such.
+    #[test]
+    fn missing_beds_are_estimated_from_the_timed_beds_of_their_line() {
+        let mut untimed = bed("u1", None, true, 0.0);
+        untimed.pack_timed = false;
+        let groups = [
+            group("cor-61", "cor", 61.0, None, vec![bed("t1", None, true, 100.0), untimed], &["m1", "m2"]),
+            group("cor-79", "cor", 79.9, None, vec![], &["m3"]),
+        ];
+        let lines = progress(&groups);
+        assert_eq!(lines[0].missing_estimate(), Some(200.0));
+        assert_eq!(lines[1].missing_estimate(), None);
+        assert_eq!(missing_total(&lines), (200.0, 1));
+        let mut page = String::new();
+        render(&lines, &mut page);
+        assert!(page.contains("| 0 of 1 | — | 0 | no finished bed to go by |"), "{page}");
+    }
+
     /// Rows of one study and tube are pooled, a `same_as` row is not counted twice, and each
     /// line counts its own builds, unsettled beds and time.
     #[test]
@@ -178,7 +237,8 @@ mod tests {
         assert_eq!(cor.builds, vec![(Some("git b".to_string()), 2), (None, 1)]);
         let mut page = String::new();
         render(&lines, &mut page);
-        assert!(page.contains("| cor | sphere | 31 | 3 of 4 | 1 | 3600 | `b` 2, older 1 |"), "{page}");
-        assert!(page.contains("| validation | sphere | 31 | 1 of 2 | — | 3600 | `a` 1 |"), "{page}");
+        assert!(page.contains("| cor | sphere | 31 | 3 of 4 | 1 | 3600 | 1200 | `b` 2, older 1 |"), "{page}");
+        assert!(page.contains("| validation | sphere | 31 | 1 of 2 | — | 3600 | 3600 | `a` 1 |"), "{page}");
+        assert_eq!(missing_total(&lines), (4800.0, 0));
     }
 }
