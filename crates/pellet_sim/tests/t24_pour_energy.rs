@@ -1,6 +1,6 @@
 //! Energy of a small mixed pour (10 cylinders and 10 Raschig rings, 10 mm, 40 mm tube, paper
-//! mode, 0.6 s): resting friction never adds energy, and the total energy never rises beyond the
-//! logged projection and resting-normal work (physics.md §7 T13 b for non-spherical pellets).
+//! mode, 1 s): resting friction never adds energy, and the total energy never rises beyond the
+//! logged removals (physics.md §7 T13 b for non-spherical pellets).
 //! And the friction energy guard (`dynamics/friction_guard.rs`) on a scene where it must act.
 
 mod common;
@@ -21,28 +21,36 @@ use pellet_sim::{BodyType, Container, EngineParams, Quat, Vec3};
 /// smallest friction removal 0 J (84 drops with only the edge-face fix); with `GUARD_ROUNDS = 0`
 /// it fails again (one step's friction removal −6.3e-4 J, E ends at 3.69e-3 J). The small
 /// deterministic test of the guard is `friction_guard_drops_...` below.
-/// ~30 s wall in release.
+///
+/// Run to 1 s (it was 0.6 s): with the engine of 2026-11-23 one substep at t = 0.731 s of this
+/// pour let the *normal* forces of an unconverged island do +4.0e-3 J of work (residual 15.7
+/// m/s², forces to 28 N; NOTES.md problem 2, "still open"). With the engine of f0e5cb4
+/// (2026-11-25) the resting normal work is negative in every step that has any (−2.7e-6 to
+/// −1.6e-5 J per 25 ms step), so the total energy never rises beyond the logged collision,
+/// friction and projection removals: largest rise 1.8e-15 J; 133 friction forces dropped by the
+/// guard; E 1.01e-2 → 3.90e-3 J. ~15 s wall in release.
 #[test]
 fn resting_friction_never_adds_energy_in_a_mixed_pour() {
     let mut w = mixed_pour(20, 7);
     let mut p = pellet_sim::Pipeline::new();
     let e0 = w.kinetic_energy() + w.potential_energy();
-    let (mut prev, mut worst_friction, mut worst_gain, mut drops) = (e0, f64::INFINITY, f64::NEG_INFINITY, 0u32);
-    for _ in 0..24 {
+    let (mut prev, mut worst_friction, mut worst_rise, mut drops) = (e0, f64::INFINITY, f64::NEG_INFINITY, 0u32);
+    for _ in 0..40 {
         let r = w.step(1.0 / 40.0, &mut p).unwrap();
         let l = &r.energy;
         worst_friction = worst_friction.min(l.removed_by_friction);
-        // Energy change not explained by the logged removals and the resting normal work.
-        let gain = l.total() - prev + l.removed_by_collisions + l.removed_by_friction + l.removed_by_projection
-            - l.resting_normal_work;
-        worst_gain = worst_gain.max(gain);
+        // Energy change not explained by the logged removals: the resting normal forces' work
+        // is left in, so positive work by them shows here.
+        let rise = l.total() - prev + l.removed_by_collisions + l.removed_by_friction + l.removed_by_projection;
+        worst_rise = worst_rise.max(rise);
         drops += r.friction_guard_drops;
         prev = l.total();
     }
     println!(
-        "mixed pour 20: E {e0:.4e} -> {prev:.4e} J, smallest friction removal per step {worst_friction:.3e} J, largest unexplained gain per step {worst_gain:.3e} J, friction forces dropped by the guard {drops}"
+        "mixed pour 20: E {e0:.4e} -> {prev:.4e} J, smallest friction removal per step {worst_friction:.3e} J, largest rise beyond the removals per step {worst_rise:.3e} J, friction forces dropped by the guard {drops}"
     );
     assert!(worst_friction >= -1e-9, "resting friction added {:.3e} J in one step", -worst_friction);
+    assert!(worst_rise <= 1e-9, "the energy rose by {worst_rise:.3e} J beyond the logged removals in one step");
     assert!(prev < e0, "the pour gained energy");
 }
 
