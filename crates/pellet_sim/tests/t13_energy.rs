@@ -77,6 +77,45 @@ fn t13a_elastic_gas_in_a_closed_box_conserves_kinetic_energy() {
     assert!(pen < 1e-2 * 2.0 * r);
 }
 
+/// T13 a's exception: with the velocity bias on, a contact approaching inside the resting band
+/// becomes resting and its resting force takes out the approach velocity. That loss must be the
+/// logged work of the resting normal forces: the gas's kinetic energy changes by exactly that
+/// work (e = 1 and μ = 0, so collisions and friction remove nothing).
+#[test]
+fn t13a_with_the_velocity_bias_the_band_losses_are_the_logged_resting_work() {
+    let r = 0.003;
+    let c = Container::tube(0.04).unwrap().with_lid(0.04).unwrap();
+    let (mut w, t) = sphere_world(c, r, material(1.0, 0.0), wall(1.0, 0.0), with_bias(zero_gravity()));
+    // Slow enough that grazing approaches inside the band (εp = 5 mm/s) are common.
+    let sc = Scatter { n: 20, r, tube_r: 0.02, z0: r * 1.1, z1: 0.04 - r * 1.1, v: 0.05, seed: 13 };
+    scatter(&mut w, t, &sc);
+    let e0 = w.energy().total();
+    let mut p = Pipeline::new();
+    let (mut impulses, mut resting) = (0u64, 0u64);
+    while impulses < 2_000 && w.time() < 60.0 {
+        let rep = w.step(1.0 / 40.0, &mut p).unwrap();
+        impulses += rep.impulses;
+        resting += rep.resting;
+    }
+    let e = w.energy();
+    let change = e.total() - e0;
+    let logged = e.resting_normal_work - e.removed_by_collisions - e.removed_by_friction - e.removed_by_projection;
+    eprintln!(
+        "T13a with bias: {impulses} impulses, {resting} resting contacts in {:.2} s; KE {e0:.4e} -> {:.4e} J, change {change:.4e} J, logged {logged:.4e} J (resting work {:.3e}, collisions {:.1e}, friction {:.1e}, projection {:.1e})",
+        w.time(),
+        e.total(),
+        e.resting_normal_work,
+        e.removed_by_collisions,
+        e.removed_by_friction,
+        e.removed_by_projection
+    );
+    assert!(resting > 0 && e.resting_normal_work < -1e-6 * e0, "no band losses to check: {resting} resting contacts");
+    assert!(
+        (change - logged).abs() <= 1e-9 * e0,
+        "the band losses are not the logged work: {change:.6e} against {logged:.6e} J"
+    );
+}
+
 fn pour(n: usize, seed: u64, params: EngineParams, seconds: f64) -> (World, Vec<LogRow>, f64) {
     let r = 0.005;
     let (mut w, t) = sphere_world(Container::tube(0.04).unwrap(), r, material(0.5, 0.3), wall(0.5, 0.3), params);
@@ -144,7 +183,10 @@ fn check_pour(label: &str, params: EngineParams, n: usize, seconds: f64) {
     let logged = e.removed_by_collisions + e.removed_by_friction + e.removed_by_projection - e.resting_normal_work;
     let gap = (e0 - e.total()) - logged;
     eprintln!("T13b {label}: ledger closure error {gap:.2e} J of {:.2e} J dissipated", e0 - e.total());
-    assert!(gap.abs() <= 1e-3 * (e0 - e.total()));
+    // Since the resting work is measured with the mean velocity over each substep the ledger
+    // closes to round-off (1.7e-17 J of 5.0e-3 J); with the start velocity it was off by 1.5e-4
+    // of the dissipated energy (the earlier tolerance here was 1e-3).
+    assert!(gap.abs() <= 1e-9 * (e0 - e.total()), "the ledger does not close: {gap:.3e} J");
     for b in w.bodies() {
         assert!(w.container().contains_sphere(&b.position, 0.005 - 1e-4), "a sphere left the tube");
     }

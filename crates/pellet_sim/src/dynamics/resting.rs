@@ -29,9 +29,8 @@ pub struct RestingStats {
     pub residual: Real,
     /// Islands whose solver did not converge (cap hit or infeasible).
     pub unconverged: usize,
-    /// Σ f_i v_rel,i δt over resting contacts (the work bound of T13), J.
-    pub normal_work: Real,
-    /// Σ f_i εp δt, J.
+    /// Σ f_i εp δt over resting contacts (the bound of T13 b on their work; the work itself is
+    /// measured over the substep by the pipeline), J.
     pub normal_work_bound: Real,
     /// Dynamic friction forces dropped by the coupled energy guard (`friction_guard`).
     pub friction_dropped: u32,
@@ -229,7 +228,6 @@ pub fn resting_phase(
         for (k, &ci) in island.contacts.iter().enumerate() {
             let c = &contacts[ci];
             out.normal[ci] = sol.f[k];
-            stats.normal_work += sol.f[k] * vn[ci] * dt;
             stats.normal_work_bound += sol.f[k] * params.eps_p * dt;
             add_force(&mut out.wrench, c, &(c.normal * sol.f[k]));
         }

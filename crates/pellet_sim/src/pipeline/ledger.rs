@@ -18,7 +18,8 @@ pub struct EnergyLedger {
     pub removed_by_friction: f64,
     /// Potential energy removed by position projection (negative if projection lifted bodies).
     pub removed_by_projection: f64,
-    /// Work done by resting normal forces (Σ f v_rel δt), J; bounded by `resting_work_bound`.
+    /// Work done by resting normal forces, Σ f (n · v̄_rel) δt with v̄_rel the mean of the relative
+    /// velocity at the start and end of each substep, J; bounded by `resting_work_bound`.
     pub resting_normal_work: f64,
     /// Σ f εp δt over resting contacts.
     pub resting_work_bound: f64,
