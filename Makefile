@@ -4,7 +4,7 @@ CARGO ?= cargo
 OUT ?= out
 BIN := target/release
 
-.PHONY: all build pipeline test lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report
+.PHONY: all build pipeline test lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
 
 all: pipeline
 
@@ -61,6 +61,11 @@ paper paper-validation paper-loading paper-cor paper-friction: build
 
 paper-report: build
 	+$(PAPER) report
+
+# Park the paper beds' partial runs in $(PAPER_DOCS)/parked (stop them first):
+# small copies, to commit, that the next `make paper…` anywhere resumes from.
+paper-park: build
+	+$(PAPER) park
 
 clean:
 	rm -rf $(OUT)

@@ -22,6 +22,9 @@ BIN ?= target/release
 OUT ?= out/paper
 DOCS ?= docs/validation
 ARCHIVE ?= $(DOCS)/runs
+# Partial runs parked by `park` (pack --park: the checkpoint without the
+# frames), committed so that a bed longer than a session goes on elsewhere.
+PARKED ?= $(DOCS)/parked
 TABLE ?= pipelines/paper/beds.csv
 REPEATS ?=
 NICE ?= nice
@@ -41,7 +44,7 @@ FRICTION := $(call ids,friction)
 
 PELLETS := $(OUT)/sphere.pellet $(OUT)/cylinder.pellet $(OUT)/ring.pellet
 
-.PHONY: all validation loading cor friction report pellets
+.PHONY: all validation loading cor friction report pellets park
 .SECONDARY:
 # A recipe that fails half-way must not leave a file that looks finished.
 .DELETE_ON_ERROR:
@@ -57,7 +60,19 @@ report:
 	$(BIN)/paper-report --table $(TABLE) --runs $(ARCHIVE) $(if $(wildcard $(RUNS)),--runs $(RUNS)) \
 	  $(if $(REPEATS),--repeats $(REPEATS)) -o $(DOCS)
 
-$(OUT) $(RUNS) $(CASES) $(ARCHIVE):
+# Park every partial run in $(RUNS) (stop its pack first: a running pack
+# holds its output's lock, and park refuses it): a copy holding what
+# `pack --resume` needs, and the pack time of its legs so far. The next run
+# of the bed, in any clone, starts from that copy when $(RUNS) has none.
+park: | $(PARKED)
+	@for f in $(wildcard $(RUNS)/*.run.mcap $(RUNS)/*.run.mcap.part $(RUNS)/*.run.mcap.resume); do \
+	  id=$$(basename $$f | sed 's/\.run\.mcap.*$$//'); \
+	  case " $$done " in *" $$id "*) continue;; esac; done="$$done $$id"; \
+	  $(BIN)/pack --case $(CASES)/$$id.toml -o $(RUNS)/$$id.run.mcap --park $(PARKED)/$$id.run.mcap || exit 1; \
+	  if [ -f $(RUNS)/$$id.pack.time ]; then cp $(RUNS)/$$id.pack.time $(PARKED)/$$id.pack.time; fi; \
+	done
+
+$(OUT) $(RUNS) $(CASES) $(ARCHIVE) $(PARKED):
 	mkdir -p $@
 
 # The paper's pellets (Table 3): sphere 10 mm, cylinder 10 × 10 mm, ring 10/6 × 10 mm.
@@ -80,9 +95,14 @@ $(CASES)/%.toml: $(TABLE) $(HERE)/case.awk | $(CASES)
 # run to `pack --resume`: the next `make` goes on from its last checkpoint,
 # and pack.time adds up the legs. A partial run older than its case file is
 # another bed's and is removed first; without a partial run the time starts
-# from zero.
+# from zero. With no partial run here, a parked one ($(PARKED), see `park`)
+# is copied in first, with its pack time.
 PARTIAL = $(RUNS)/$*.run.mcap $(RUNS)/$*.run.mcap.part $(RUNS)/$*.run.mcap.resume
 $(RUNS)/%.mcap: $(CASES)/%.toml $(PELLETS) | $(RUNS)
+	partial=; for f in $(PARTIAL); do if [ -f $$f ]; then partial=1; fi; done; \
+	  if [ -z "$$partial" ] && [ -f $(PARKED)/$*.run.mcap ]; then \
+	  cp $(PARKED)/$*.run.mcap $(RUNS)/$*.run.mcap; \
+	  if [ -f $(PARKED)/$*.pack.time ]; then cp $(PARKED)/$*.pack.time $(RUNS)/$*.pack.time; fi; fi
 	partial=; for f in $(PARTIAL); do \
 	  if [ -f $$f ] && [ $< -nt $$f ]; then rm -f $$f; fi; if [ -f $$f ]; then partial=1; fi; done; \
 	  if [ -z "$$partial" ]; then rm -f $(RUNS)/$*.pack.time; fi
@@ -110,3 +130,4 @@ $(ARCHIVE)/%.summary.json: | $(ARCHIVE)
 	  if test -f $(RUNS)/$*.$$f; then cp $(RUNS)/$*.$$f $(ARCHIVE)/$*.$$f.tmp && mv $(ARCHIVE)/$*.$$f.tmp $(ARCHIVE)/$*.$$f; fi; \
 	done
 	cp $(RUNS)/$*.summary.json $@.tmp && mv $@.tmp $@
+	rm -f $(PARKED)/$*.run.mcap $(PARKED)/$*.pack.time

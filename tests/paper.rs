@@ -286,3 +286,56 @@ val-sphere-D25,validation,sphere,25,1,120,0,40,one-column,,,,,8,taller tube
     assert_eq!(resumed.frames, straight.frames);
     assert_eq!(resumed.energy, straight.energy);
 }
+
+/// A bed stopped in one clone is parked (`make park`: a small copy of its checkpoint, with its
+/// pack time, under the committed docs) and finished by the next make in a clone without `out/`:
+/// its trajectory after the parked frame equals an uninterrupted run's, pack.time adds up both
+/// legs, and the parked files are gone once the bed's record is written.
+#[test]
+fn a_parked_paper_bed_is_finished_by_the_next_make_elsewhere() {
+    let s = Scenario::new();
+    let table = "\
+config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as,drop_height_mm
+val-sphere-D25,validation,sphere,25,1,20,0,12,one-column,,,,,6,small tube
+";
+    std::fs::write(s.file("beds.csv"), table).unwrap();
+    let id = "val-sphere-D25-s1";
+    let case = format!("out/cases/{id}.toml");
+    let pellets = ["out/sphere.pellet", "out/cylinder.pellet", "out/ring.pellet"];
+    let out = make(&s, &[&[case.as_str()][..], &pellets[..]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // The first leg, stopped at 0.4 s, as the recipe's pack and timed.sh leave it.
+    let run = format!("out/runs/{id}.run.mcap");
+    std::fs::create_dir_all(s.file("out/runs")).unwrap();
+    s.run("pack", &["--case", &case, "-o", &run, "--quiet", "--max-time", "0.4"]);
+    std::fs::write(s.file(&format!("out/runs/{id}.pack.time")), "1.500 2\n").unwrap();
+
+    let out = make(&s, &["park"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let parked = s.file(&format!("docs/parked/{id}.run.mcap"));
+    let read = |p: &Path| pellet_io::read_trajectory(&std::fs::read(p).unwrap(), "t").unwrap();
+    let kept = read(&parked).frames;
+    assert_eq!(kept.len(), 1);
+    assert!(std::fs::metadata(&parked).unwrap().len() < std::fs::metadata(s.file(&run)).unwrap().len());
+    assert_eq!(std::fs::read_to_string(s.file(&format!("docs/parked/{id}.pack.time"))).unwrap(), "1.500 2\n");
+
+    // Another clone: no out/, the committed docs only.
+    std::fs::remove_dir_all(s.file("out")).unwrap();
+    let out = make(&s, &[&format!("docs/runs/{id}.summary.json")]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!parked.exists() && !s.file(&format!("docs/parked/{id}.pack.time")).exists());
+    let total: f64 = std::fs::read_to_string(s.file(&format!("docs/runs/{id}.pack.time")))
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(total > 1.5, "pack.time {total} s must add the parked leg's 1.5 s");
+    s.run("pack", &["--case", &case, "-o", "straight.mcap", "--quiet"]);
+    let (resumed, straight) = (read(&s.file(&format!("out/runs/{id}.mcap"))), read(&s.file("straight.mcap")));
+    let after: Vec<_> = straight.frames.iter().filter(|f| f.time_s >= kept[0].time_s).cloned().collect();
+    assert!(resumed.frames == after, "the finished bed's frames differ from an uninterrupted run's");
+    assert!(resumed.energy == straight.energy, "the finished bed's energy records differ");
+    assert!(resumed.run["build"].starts_with(&straight.run["build"]), "{}", resumed.run["build"]);
+}

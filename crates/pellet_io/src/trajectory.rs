@@ -182,6 +182,26 @@ impl TrajectoryWriter {
     /// FIFO: [`crate::is_special_file`]), which a rename would replace and MCAP cannot
     /// seek in, the part file is in the temporary directory and `finish` copies it over.
     pub fn create(path: &Path, header: &TrajectoryHeader) -> Result<Self, IoError> {
+        let mut meta = BTreeMap::new();
+        meta.insert("tool".to_string(), header.provenance.tool.clone());
+        meta.insert("version".to_string(), header.provenance.version.clone());
+        meta.insert("args".to_string(), header.provenance.args.join(" "));
+        meta.insert("build".to_string(), header.build.to_string());
+        meta.insert("seed".to_string(), header.seed.to_string());
+        meta.insert("units".to_string(), "SI (m, kg, s, J)".to_string());
+        meta.insert("config".to_string(), header.config_json.to_string());
+        Self::create_with_run(path, &meta, header.pellet_files, header.tube)
+    }
+
+    /// As [`TrajectoryWriter::create`], with the `packbed.run` metadata given whole: a copy of
+    /// another trajectory's [`Trajectory::run`] keeps its provenance, build and configuration
+    /// as they were (`pack --park`).
+    pub fn create_with_run(
+        path: &Path,
+        run: &BTreeMap<String, String>,
+        pellet_files: &[Vec<u8>],
+        tube: &Tube,
+    ) -> Result<Self, IoError> {
         let copy_over = crate::atomic::is_special_file(path);
         let part_path = if copy_over {
             let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -200,18 +220,12 @@ impl TrajectoryWriter {
             // Pinned: zstd's single- and multi-threaded modes give different bytes.
             .compression_threads(1)
             .profile(TRAJECTORY_PROFILE)
-            .library(format!("packbed {}", header.provenance.version));
+            .library(format!("packbed {}", run.get("version").map_or("", String::as_str)));
         let mut writer = mcap::Writer::with_options(BufWriter::new(file), options).map_err(&err)?;
-        let mut meta = BTreeMap::new();
-        meta.insert("tool".to_string(), header.provenance.tool.clone());
-        meta.insert("version".to_string(), header.provenance.version.clone());
-        meta.insert("args".to_string(), header.provenance.args.join(" "));
-        meta.insert("build".to_string(), header.build.to_string());
-        meta.insert("seed".to_string(), header.seed.to_string());
-        meta.insert("units".to_string(), "SI (m, kg, s, J)".to_string());
-        meta.insert("config".to_string(), header.config_json.to_string());
-        writer.write_metadata(&mcap::records::Metadata { name: RUN_METADATA.into(), metadata: meta }).map_err(&err)?;
-        for (i, bytes) in header.pellet_files.iter().enumerate() {
+        writer
+            .write_metadata(&mcap::records::Metadata { name: RUN_METADATA.into(), metadata: run.clone() })
+            .map_err(&err)?;
+        for (i, bytes) in pellet_files.iter().enumerate() {
             writer
                 .attach(&mcap::Attachment {
                     log_time: 0,
@@ -222,7 +236,7 @@ impl TrajectoryWriter {
                 })
                 .map_err(&err)?;
         }
-        let tube_json = tube_json(header.tube);
+        let tube_json = tube_json(tube);
         writer
             .attach(&mcap::Attachment {
                 log_time: 0,

@@ -30,6 +30,7 @@ Examples:
   pack --pellet s.pellet --tube-diameter 100 --count 1000 --scheme batch -o t14.mcap
   pack --case cases/cyl-N7.toml -o bed.mcap --resume      (go on after a kill or an interrupt)
   pack --case cases/cyl-N7.toml -o bed.mcap --resume --max-time 60   (or past the time limit)
+  pack --case cases/cyl-N7.toml -o bed.mcap --park parked.mcap   (a small copy to resume elsewhere)
 
 A case file (TOML, or JSON starting with '{') holds any of the flags below,
 spelled the same: tube-diameter = 69.83, fill-height = 120, scheme = \"sock\", ...
@@ -143,6 +144,12 @@ pub struct Args {
     /// from, the run starts over.
     #[arg(long)]
     resume: bool,
+    /// Instead of running: write the partial run of the output (as --resume would find it) to
+    /// FILE, keeping only what --resume needs (run metadata, pellet, energy records, the last
+    /// frame and checkpoint; a few hundred kB where the run is tens of MB). Copy FILE to the
+    /// output on another machine and `pack --resume` goes on from its checkpoint.
+    #[arg(long, value_name = "FILE", conflicts_with = "resume")]
+    park: Option<String>,
     /// No progress output.
     #[arg(short, long)]
     quiet: bool,
@@ -271,6 +278,15 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     check_setup(&config, &pellet)?;
     // Held until the output is in place (dropped on return).
     let _lock = output_lock::OutputLock::acquire(&output)?;
+    if let Some(park) = &args.park {
+        let Some(source) = resume::latest(&output, &config, &files[0])? else {
+            bail!("{output}: no partial run with a checkpoint to park (none of {output}, {output}.part, {output}.resume holds one)");
+        };
+        let t = source.park(Path::new(park))?;
+        let bytes = std::fs::metadata(park).map(|m| m.len()).unwrap_or(0);
+        println!("parked the run of {output} at its checkpoint t = {t:.3} s in {park} ({bytes} bytes); to go on, copy it to {output} and run pack --resume");
+        return Ok(Outcome::Success);
+    }
     let source = if args.resume {
         resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?
     } else {

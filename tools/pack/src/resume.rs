@@ -30,6 +30,22 @@ fn with_suffix(output: &str, suffix: &str) -> PathBuf {
 /// error when no compatible one exists (continuing would mix two runs; starting over would
 /// overwrite it).
 pub fn find(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::Result<Option<Source>> {
+    let found = latest(output, config, pellet_bytes)?;
+    if let Some(source) = &found {
+        if let Some(Ending::TimeLimit) = source.checkpoint.run.ending {
+            let t = source.checkpoint.time_s();
+            if config.max_time_s <= t {
+                let shown = source.path.display();
+                bail!("{shown}: the run reached its --max-time at t = {t:.3} s; give a larger --max-time to go on");
+            }
+        }
+    }
+    Ok(found)
+}
+
+/// The compatible candidate with the latest checkpoint, unless the run settled; unlike
+/// [`find`], a run that reached this configuration's --max-time is returned too (`--park`).
+pub fn latest(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::Result<Option<Source>> {
     let mut best: Option<Source> = None;
     let mut refused: Option<String> = None;
     for path in [with_suffix(output, ".part"), PathBuf::from(output), with_suffix(output, ".resume")] {
@@ -60,9 +76,6 @@ pub fn find(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::R
             let (t, shown) = (source.checkpoint.time_s(), source.path.display());
             match source.checkpoint.run.ending {
                 Some(Ending::Settled) => bail!("{shown}: the run settled at t = {t:.3} s; nothing to resume"),
-                Some(Ending::TimeLimit) if config.max_time_s <= t => {
-                    bail!("{shown}: the run reached its --max-time at t = {t:.3} s; give a larger --max-time to go on")
-                }
                 _ => Ok(Some(source)),
             }
         }
@@ -77,6 +90,29 @@ impl Source {
     /// <current>` unless `current` made its last leg too.
     pub fn build_history(&self, current: &str) -> String {
         build_history(self.trajectory.run.get("build").map(String::as_str), self.checkpoint.time_s(), current)
+    }
+
+    /// Writes to `path` a trajectory that holds only what `--resume` needs of this run: its run
+    /// metadata (configuration and build history as recorded), pellet files and tube, every
+    /// energy record up to the checkpoint, the last frame before it and the checkpoint itself.
+    /// Copied to `<output>` on any machine, `pack --resume` continues the run from there; the
+    /// frames before the checkpoint (all but that last one) are not kept. The source is left
+    /// alone. Returns the checkpoint's time (s).
+    pub fn park(&self, path: &Path) -> anyhow::Result<f64> {
+        let t = self.checkpoint.time_s();
+        let shown = self.path.display();
+        let tube = self.trajectory.tube.as_ref().with_context(|| format!("{shown}: no tube attachment"))?;
+        let run = &self.trajectory.run;
+        let mut writer = TrajectoryWriter::create_with_run(path, run, &self.trajectory.pellet_files, tube)?;
+        if let Some(frame) = self.trajectory.frames.iter().rev().find(|f| f.time_s < t) {
+            writer.write_frame(frame)?;
+        }
+        for record in self.trajectory.energy.iter().filter(|e| e.time_s <= t) {
+            writer.write_energy(record)?;
+        }
+        writer.write_checkpoint(t, &self.checkpoint_bytes)?;
+        writer.finish()?;
+        Ok(t)
     }
 
     /// Moves the source to `<output>.resume`, out of the way of the new `<output>.part` (which

@@ -286,6 +286,61 @@ fn resume_continues_a_stopped_or_killed_run_exactly() {
     assert!(!d.join("k.mcap.part").exists() && !d.join("k.mcap.resume").exists());
 }
 
+/// --park writes a small copy of a partial run (one frame, the energy records, the
+/// checkpoint) and leaves the run alone; that copy, put under the output's name in another
+/// directory, resumes to the uninterrupted run's frames after the checkpoint and its energy
+/// records, bit for bit.
+#[test]
+fn a_parked_run_resumes_elsewhere_exactly() {
+    let dir = setup();
+    let d = dir.path();
+    assert_eq!(pack_owned(d, &resumable("0.9", "whole.mcap")).status.code(), Some(2));
+    let whole = read(d, "whole.mcap");
+    assert_eq!(pack_owned(d, &resumable("0.45", "p.mcap")).status.code(), Some(2));
+    let before = std::fs::read(d.join("p.mcap")).unwrap();
+
+    let mut park = resumable("0.45", "p.mcap");
+    park.extend(["--park", "parked.mcap"].map(String::from));
+    let out = pack_owned(d, &park);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("parked the run of p.mcap at its checkpoint t = 0.450 s"));
+    assert_eq!(std::fs::read(d.join("p.mcap")).unwrap(), before, "the parked run was changed");
+    let parked = read(d, "parked.mcap");
+    let source = read(d, "p.mcap");
+    assert_eq!(parked.run, source.run);
+    assert_eq!(parked.pellet_files, source.pellet_files);
+    assert_eq!(parked.checkpoint, source.checkpoint);
+    // The run ended at its checkpoint: every energy record is kept.
+    assert!(parked.energy == source.energy, "{} of {} energy records", parked.energy.len(), source.energy.len());
+    assert_eq!(parked.frames.len(), 1);
+    assert!(std::fs::metadata(d.join("parked.mcap")).unwrap().len() < before.len() as u64);
+
+    // Elsewhere: the parked copy under the output's name, the pellet beside it.
+    let other = d.join("other");
+    std::fs::create_dir(&other).unwrap();
+    std::fs::copy(d.join("s.pellet"), other.join("s.pellet")).unwrap();
+    std::fs::copy(d.join("parked.mcap"), other.join("p.mcap")).unwrap();
+    let mut again = resumable("0.9", "p.mcap");
+    again.push("--resume".into());
+    let out = pack_owned(&other, &again);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let resumed = read(&other, "p.mcap");
+    // The parked frame, then every frame of the uninterrupted run after it.
+    let kept = parked.frames[0].time_s;
+    let after = |f: &[pellet_io::Frame]| f.iter().filter(|f| f.time_s >= kept).cloned().collect::<Vec<_>>();
+    assert!(resumed.frames == after(&whole.frames), "the resumed frames differ from the uninterrupted run's");
+    assert!(resumed.frames.len() > 10 && resumed.frames.len() < whole.frames.len());
+    assert!(resumed.energy == whole.energy, "the resumed energy records differ from the uninterrupted run's");
+
+    // Nothing to park: a clear one-line error.
+    let mut none = resumable("0.45", "none.mcap");
+    none.extend(["--park", "x.mcap"].map(String::from));
+    let out = pack_owned(d, &none);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("no partial run with a checkpoint to park"), "{}", stderr(&out));
+    assert!(!d.join("x.mcap").exists());
+}
+
 /// --resume refuses another run's file and a settled run, and starts over when there is
 /// nothing to resume.
 #[test]
