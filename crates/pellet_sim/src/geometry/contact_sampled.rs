@@ -343,7 +343,8 @@ pub fn sampled_pair(
     out: &mut Vec<Contact>,
 ) {
     let ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
-    let mut hits = Vec::new();
+    // Room for a typical pair's hits at once (growing from empty was 1.4 % of a cylinder bed).
+    let mut hits = Vec::with_capacity(32);
     match cache {
         None => ways.iter().for_each(|way| way.collect(max_gap, &mut hits)),
         Some(cache) => {
@@ -422,14 +423,20 @@ pub fn sphere_shape(s: Pellet<'_>, r: Real, o: Pellet<'_>, sphere_is_a: bool, ma
 /// place with gaps differing by ~1e-16 m, and an exact-gap order swapped the patch's point (a
 /// new key, no warm start) from one substep to the next; in recommended mode that kicked a
 /// 5-stack to |v| 1.2e-4 m/s (1.3e-6 with the rounding, NOTES.md problem 1).
-pub(crate) fn patches(hits: &mut [Hit]) -> Vec<Vec<usize>> {
-    hits.sort_by(|x, y| {
-        x.wedge
-            .is_some()
-            .cmp(&y.wedge.is_some())
-            .then(((x.gap / 1e-12).round() as i64).cmp(&((y.gap / 1e-12).round() as i64)))
-            .then(x.feature.cmp(&y.feature))
-    });
+///
+/// The keys are computed once and sorted with the hits' indices as the last key (the order of
+/// a stable sort, bit for bit), then the hits are moved once: sorting the ~200-byte hits with
+/// the key in the comparison was 4 % of a cylinder bed's time (the rounding and the copies).
+pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
+    let mut keys: Vec<(bool, i64, u32, u32)> = hits
+        .iter()
+        .enumerate()
+        .map(|(i, h)| (h.wedge.is_some(), (h.gap / 1e-12).round() as i64, h.feature, i as u32))
+        .collect();
+    keys.sort_unstable();
+    if keys.iter().enumerate().any(|(k, key)| key.3 as usize != k) {
+        *hits = keys.iter().map(|key| hits[key.3 as usize]).collect();
+    }
     let mut out: Vec<Vec<usize>> = Vec::new();
     for i in 0..hits.len() {
         let h = hits[i];
