@@ -53,8 +53,11 @@ pub fn project_positions(
     }
     // Bottom-up order (ascending height of the contact point, ties by index): in a pile a
     // correction then reaches the top in one sweep, the cheap form of shock propagation.
-    let mut order: Vec<usize> = (0..contacts.len()).collect();
-    order.sort_by(|&i, &j| contacts[i].point.z.total_cmp(&contacts[j].point.z).then(i.cmp(&j)));
+    // Sorted as (height, index) pairs, not indices that look the heights up in the contacts
+    // per comparison (1.9 % of a cylinder bed); the order is a total one, so the same.
+    let mut keyed: Vec<(Real, usize)> = contacts.iter().enumerate().map(|(i, c)| (c.point.z, i)).collect();
+    keyed.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let order: Vec<usize> = keyed.into_iter().map(|(_, i)| i).collect();
     for _ in 0..SWEEPS {
         let mut any = false;
         for &i in &order {

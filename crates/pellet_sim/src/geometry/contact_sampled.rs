@@ -343,10 +343,14 @@ pub fn sampled_pair(
     out: &mut Vec<Contact>,
 ) {
     let ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
-    // Room for a typical pair's hits at once (growing from empty was 1.4 % of a cylinder bed).
-    let mut hits = Vec::with_capacity(32);
+    // Room for the pair's hits at once: growing from empty was 3-4 % of a cylinder bed (faces
+    // on faces give hundreds of ~200-byte hits). With the cache, its candidates bound them.
+    let mut hits = Vec::new();
     match cache {
-        None => ways.iter().for_each(|way| way.collect(max_gap, &mut hits)),
+        None => {
+            hits.reserve(32);
+            ways.iter().for_each(|way| way.collect(max_gap, &mut hits))
+        }
         Some(cache) => {
             let poses = [(ways[0].m, ways[0].t), (ways[1].m, ways[1].t)];
             let reach = [lipschitz(b.shape), lipschitz(a.shape)];
@@ -355,6 +359,7 @@ pub fn sampled_pair(
                 let bound = max_gap + SAMPLE_CACHE_MARGIN * radii[0].min(radii[1]);
                 cache.rebuild(poses, bound, |k, list| ways[k].candidates(bound, list));
             }
+            hits.reserve(cache.candidates().iter().map(|list| list.len()).sum());
             for (way, list) in ways.iter().zip(cache.candidates()) {
                 way.collect_from(list, max_gap, &mut hits);
             }
@@ -437,27 +442,40 @@ pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
     if keys.iter().enumerate().any(|(k, key)| key.3 as usize != k) {
         *hits = keys.iter().map(|key| hits[key.3 as usize]).collect();
     }
-    let mut out: Vec<Vec<usize>> = Vec::new();
+    // Each hit's patch first, the patches' member lists after (each allocated once, members in
+    // increasing index as before): growing a list per patch hit by hit was 2.6 % of a
+    // cylinder bed.
+    let mut heads: Vec<usize> = Vec::with_capacity(4);
+    let mut patch_of: Vec<usize> = Vec::with_capacity(hits.len());
     for i in 0..hits.len() {
         let h = hits[i];
         let fits = |n: &Vec3| match &h.wedge {
             Some([c1, c2]) => cone_alignment(n, c1) > WEDGE_COS && cone_alignment(n, c2) > WEDGE_COS,
             None => false,
         };
-        let found = out.iter().position(|p| {
-            let n = hits[p[0]].normal;
+        let found = heads.iter().position(|&head| {
+            let n = hits[head].normal;
             n.dot(&h.normal) > PATCH_COS || fits(&n)
         });
         match found {
             Some(k) => {
-                let n = hits[out[k][0]].normal;
+                let n = hits[heads[k]].normal;
                 if h.wedge.is_some() {
                     hits[i].gap = n.dot(&(h.pa - h.pb));
                 }
-                out[k].push(i);
+                patch_of.push(k);
             }
-            None => out.push(vec![i]),
+            None => {
+                patch_of.push(heads.len());
+                heads.push(i);
+            }
         }
+    }
+    let mut sizes = vec![0usize; heads.len()];
+    patch_of.iter().for_each(|&k| sizes[k] += 1);
+    let mut out: Vec<Vec<usize>> = sizes.iter().map(|&n| Vec::with_capacity(n)).collect();
+    for (i, &k) in patch_of.iter().enumerate() {
+        out[k].push(i);
     }
     out
 }
