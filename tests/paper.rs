@@ -55,6 +55,20 @@ fn dixon_spheres(n: f64) -> f64 {
     }
 }
 
+/// The wall seconds a `timed.sh` file records (its first field).
+fn recorded_seconds(path: &Path) -> f64 {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.split_whitespace().next().and_then(|t| t.parse().ok()).unwrap_or_else(|| panic!("{}: {text}", path.display()))
+}
+
+/// A scenario whose `beds.csv` is the table header and `row`.
+fn one_row_table(row: &str) -> Scenario {
+    let s = Scenario::new();
+    let header = TABLE.lines().next().expect("the table's header");
+    std::fs::write(s.file("beds.csv"), format!("{header}\n{row}\n")).unwrap();
+    s
+}
+
 fn keys(v: &Value) -> Vec<String> {
     let mut k: Vec<String> = v.as_object().expect("object").keys().cloned().collect();
     k.sort();
@@ -145,8 +159,7 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
     let mut seconds = 0.0;
     for id in ["val-sphere-D25-s1", "val-sphere-D25-s2", "cor-sphere-D25-c0.3-s1", "cor-sphere-D25-c0.9-s1"] {
         for stage in ["pack", "settle", "voidprof"] {
-            let t = std::fs::read_to_string(s.file(&format!("out/runs/{id}.{stage}.time"))).unwrap();
-            seconds += t.split_whitespace().next().unwrap().parse::<f64>().unwrap();
+            seconds += recorded_seconds(&s.file(&format!("out/runs/{id}.{stage}.time")));
         }
     }
     let reported = sum["compute_seconds"].as_f64().unwrap();
@@ -223,12 +236,7 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
 #[test]
 fn an_interrupted_paper_bed_is_resumed_by_the_next_make() {
     use std::os::unix::process::CommandExt;
-    let s = Scenario::new();
-    let table = "\
-config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as,drop_height_mm
-val-sphere-D25,validation,sphere,25,1,120,0,40,one-column,,,,,8,taller tube
-";
-    std::fs::write(s.file("beds.csv"), table).unwrap();
+    let s = one_row_table("val-sphere-D25,validation,sphere,25,1,120,0,40,one-column,,,,,8,taller tube");
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace root").to_path_buf();
     let bin_dir = bin("pack").parent().expect("binary directory").to_path_buf();
     let id = "val-sphere-D25-s1";
@@ -260,13 +268,7 @@ val-sphere-D25,validation,sphere,25,1,120,0,40,one-column,,,,,8,taller tube
     while !time_file.exists() && start.elapsed().as_secs() < 60 {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let first_leg: f64 = std::fs::read_to_string(&time_file)
-        .expect("the interrupted leg's time is recorded")
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let first_leg = recorded_seconds(&time_file);
     let interrupted =
         pellet_io::read_trajectory(&std::fs::read(s.file(&format!("out/runs/{id}.run.mcap"))).unwrap(), "i")
             .expect("pack closed the interrupted run");
@@ -275,13 +277,7 @@ val-sphere-D25,validation,sphere,25,1,120,0,40,one-column,,,,,8,taller tube
 
     let out = make(&s, &[&format!("out/runs/{id}.mcap")]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let total: f64 = std::fs::read_to_string(s.file(&format!("out/runs/{id}.pack.time")))
-        .unwrap()
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let total = recorded_seconds(&s.file(&format!("out/runs/{id}.pack.time")));
     assert!(total > first_leg, "pack.time {total} s must add the first leg's {first_leg} s");
     s.run("pack", &["--case", &format!("out/cases/{id}.toml"), "-o", "straight.mcap", "--quiet"]);
     let read = |name: &str| pellet_io::read_trajectory(&std::fs::read(s.file(name)).unwrap(), name).unwrap();
@@ -297,12 +293,7 @@ val-sphere-D25,validation,sphere,25,1,120,0,40,one-column,,,,,8,taller tube
 /// legs, and the parked files are gone once the bed's record is written.
 #[test]
 fn a_parked_paper_bed_is_finished_by_the_next_make_elsewhere() {
-    let s = Scenario::new();
-    let table = "\
-config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as,drop_height_mm
-val-sphere-D25,validation,sphere,25,1,20,0,12,one-column,,,,,6,small tube
-";
-    std::fs::write(s.file("beds.csv"), table).unwrap();
+    let s = one_row_table("val-sphere-D25,validation,sphere,25,1,20,0,12,one-column,,,,,6,small tube");
     let id = "val-sphere-D25-s1";
     let case = format!("out/cases/{id}.toml");
     let pellets = ["out/sphere.pellet", "out/cylinder.pellet", "out/ring.pellet"];
@@ -328,13 +319,7 @@ val-sphere-D25,validation,sphere,25,1,20,0,12,one-column,,,,,6,small tube
     let out = make(&s, &[&format!("docs/runs/{id}.summary.json")]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(!parked.exists() && !s.file(&format!("docs/parked/{id}.pack.time")).exists());
-    let total: f64 = std::fs::read_to_string(s.file(&format!("docs/runs/{id}.pack.time")))
-        .unwrap()
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .parse()
-        .unwrap();
+    let total = recorded_seconds(&s.file(&format!("docs/runs/{id}.pack.time")));
     assert!(total > 1.5, "pack.time {total} s must add the parked leg's 1.5 s");
     s.run("pack", &["--case", &case, "-o", "straight.mcap", "--quiet"]);
     let (resumed, straight) = (read(&s.file(&format!("out/runs/{id}.mcap"))), read(&s.file("straight.mcap")));
