@@ -313,12 +313,21 @@ fn a_parked_paper_bed_is_finished_by_the_next_make_elsewhere() {
     assert_eq!(kept.len(), 1);
     assert!(std::fs::metadata(&parked).unwrap().len() < std::fs::metadata(s.file(&run)).unwrap().len());
     assert_eq!(std::fs::read_to_string(s.file(&format!("docs/parked/{id}.pack.time"))).unwrap(), "1.500 2\n");
+    // The report lists the bed as missing and parked (no bed has a record yet).
+    std::fs::create_dir_all(s.file("docs/runs")).unwrap();
+    let out = make(&s, &["report"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let page = std::fs::read_to_string(s.file("docs/README.md")).unwrap();
+    let parked_line = page.lines().find(|l| l.starts_with("- Parked partial runs")).unwrap_or_else(|| panic!("{page}"));
+    assert!(parked_line.ends_with(&format!(": {id}.")), "{parked_line}");
 
     // Another clone: no out/, the committed docs only.
     std::fs::remove_dir_all(s.file("out")).unwrap();
     let out = make(&s, &[&format!("docs/runs/{id}.summary.json")]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(!parked.exists() && !s.file(&format!("docs/parked/{id}.pack.time")).exists());
+    assert!(make(&s, &["report"]).status.success());
+    assert!(!std::fs::read_to_string(s.file("docs/README.md")).unwrap().contains("Parked partial runs"));
     let total = recorded_seconds(&s.file(&format!("docs/runs/{id}.pack.time")));
     assert!(total > 1.5, "pack.time {total} s must add the parked leg's 1.5 s");
     s.run("pack", &["--case", &case, "-o", "straight.mcap", "--quiet"]);

@@ -126,6 +126,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         figures,
         compute_seconds,
         machine,
+        parked: parked_runs(out, &crate::collect::distinct_missing(&groups)),
     };
 
     let mut outputs = vec![
@@ -156,4 +157,11 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let missing = collect::distinct_missing(&groups).len();
     println!("paper-report: {done} beds finished, {missing} missing; wrote {}", out.join("README.md").display());
     Ok(Outcome::Success)
+}
+
+/// The missing beds that have a parked partial run, `<out>/parked/<id>.run.mcap`, in the order
+/// of the missing list.
+fn parked_runs(out: &Path, missing: &[&str]) -> Vec<String> {
+    let dir = out.join("parked");
+    missing.iter().filter(|id| dir.join(format!("{id}.run.mcap")).is_file()).map(|id| id.to_string()).collect()
 }

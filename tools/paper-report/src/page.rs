@@ -36,6 +36,8 @@ pub struct Page<'a> {
     pub compute_seconds: f64,
     /// The machine.
     pub machine: String,
+    /// Missing beds with a parked partial run in `<output>/parked` (`make paper-park`).
+    pub parked: Vec<String>,
 }
 
 fn pct(x: f64) -> String {
@@ -83,6 +85,13 @@ impl Page<'_> {
         } else {
             let _ =
                 writeln!(o, "- **Missing beds ({}), not in any number below:** {}.", missing.len(), missing.join(", "));
+        }
+        if !self.parked.is_empty() {
+            let _ = writeln!(
+                o,
+                "- Parked partial runs (in [`parked/`](parked/), from `make paper-park`; the next `make` of such a bed goes on from its checkpoint): {}.",
+                self.parked.join(", ")
+            );
         }
         if !unsettled.is_empty() {
             let _ = writeln!(
