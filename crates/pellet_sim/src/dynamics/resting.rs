@@ -45,6 +45,9 @@ pub struct RestingForces {
     pub normal: Vec<Real>,
     /// Per contact: friction force on A (world).
     pub friction: Vec<Vec3>,
+    /// Per contact: relative velocity A − B at the contact point before the phase (world), the
+    /// one it classified by; the pipeline measures the forces' work from it.
+    pub relative_velocity: Vec<Vec3>,
 }
 
 /// A body's velocity, angular velocity ω = I⁻¹L and free angular acceleration α = I⁻¹(L×ω),
@@ -138,16 +141,17 @@ pub fn resting_phase(
     warm: &dyn Fn(&ContactKey) -> (Real, Vec3),
 ) -> (RestingForces, RestingStats) {
     let g = params.gravity;
-    let mut out = RestingForces {
-        wrench: vec![(Vec3::zeros(), Vec3::zeros()); bodies.len()],
-        normal: vec![0.0; contacts.len()],
-        friction: vec![Vec3::zeros(); contacts.len()],
-    };
-    let mut stats = RestingStats::default();
     let rates: Vec<BodyRates> = bodies.iter().map(BodyRates::of).collect();
     let vel: Vec<Vec3> = rates.iter().map(|r| r.v).collect();
     let omega: Vec<Vec3> = rates.iter().map(|r| r.w).collect();
     let u: Vec<Vec3> = contacts.iter().map(|c| relative_velocity_from(c, &vel, &omega)).collect();
+    let mut out = RestingForces {
+        wrench: vec![(Vec3::zeros(), Vec3::zeros()); bodies.len()],
+        normal: vec![0.0; contacts.len()],
+        friction: vec![Vec3::zeros(); contacts.len()],
+        relative_velocity: Vec::new(),
+    };
+    let mut stats = RestingStats::default();
     let vn: Vec<Real> = contacts.iter().zip(&u).map(|(c, u)| c.normal.dot(u)).collect();
     let resting: Vec<usize> = (0..contacts.len())
         .filter(|&i| vn[i].abs() <= params.eps_p && contacts[i].gap + vn[i].min(0.0) * dt <= delta_c)
@@ -238,6 +242,7 @@ pub fn resting_phase(
             add_force(&mut out.wrench, &contacts[ci], &force);
         }
     }
+    out.relative_velocity = u;
     (out, stats)
 }
 

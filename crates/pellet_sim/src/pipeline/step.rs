@@ -251,13 +251,6 @@ impl World {
             };
             let (forces, rest) = resting_phase(&self.bodies, &contacts, &mu, &self.params, dt, delta_c, &warm_fn);
             report.wall_seconds[2] += clock.elapsed().as_secs_f64();
-            // Each body's ω = I⁻¹L once, not at every contact end (R I⁻¹ Rᵀ per call was 3 % of
-            // a cylinder bed); the same arithmetic as `relative_velocity`, so the same bits.
-            let rates = |bodies: &[Body]| -> (Vec<Vec3>, Vec<Vec3>) {
-                (bodies.iter().map(Body::velocity).collect(), bodies.iter().map(Body::angular_velocity).collect())
-            };
-            let (vel0, omega0) = rates(&self.bodies);
-            let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity_from(c, &vel0, &omega0)).collect();
             let g = self.params.gravity;
             let max_rot = self.params.max_rotation_per_substep;
             let mut rot_steps = 0u64;
@@ -270,7 +263,12 @@ impl World {
             // normal part used the start velocity until 2026-11-25: twice the energy a resting
             // force takes out of a contact it brings to rest, so the ledger did not close).
             let (mut friction_work, mut normal_work) = (0.0, 0.0);
-            let (vel1, omega1) = rates(&self.bodies);
+            // Each body's ω = I⁻¹L once, not at every contact end (R I⁻¹ Rᵀ per call was 3 % of
+            // a cylinder bed); the same arithmetic as `relative_velocity`, so the same bits. The
+            // start velocities are the resting phase's own.
+            let vel1: Vec<Vec3> = self.bodies.iter().map(Body::velocity).collect();
+            let omega1: Vec<Vec3> = self.bodies.iter().map(Body::angular_velocity).collect();
+            let u0 = &forces.relative_velocity;
             for (i, c) in contacts.iter().enumerate() {
                 let (ff, fnormal) = (forces.friction[i], forces.normal[i]);
                 if ff == Vec3::zeros() && fnormal == 0.0 {
