@@ -64,10 +64,10 @@ report:
 # holds its output's lock, and park refuses it): a copy holding what
 # `pack --resume` needs, and the pack time of its legs so far. The next run
 # of the bed, in any clone, starts from that copy when $(RUNS) has none.
+PARTIAL_IDS = $(sort $(foreach f,$(wildcard $(RUNS)/*.run.mcap $(RUNS)/*.run.mcap.part $(RUNS)/*.run.mcap.resume),\
+  $(firstword $(subst .run.mcap, ,$(notdir $(f))))))
 park: | $(PARKED)
-	@for f in $(wildcard $(RUNS)/*.run.mcap $(RUNS)/*.run.mcap.part $(RUNS)/*.run.mcap.resume); do \
-	  id=$$(basename $$f | sed 's/\.run\.mcap.*$$//'); \
-	  case " $$done " in *" $$id "*) continue;; esac; done="$$done $$id"; \
+	@for id in $(PARTIAL_IDS); do \
 	  $(BIN)/pack --case $(CASES)/$$id.toml -o $(RUNS)/$$id.run.mcap --park $(PARKED)/$$id.run.mcap || exit 1; \
 	  if [ -f $(RUNS)/$$id.pack.time ]; then cp $(RUNS)/$$id.pack.time $(PARKED)/$$id.pack.time; fi; \
 	done
@@ -95,17 +95,15 @@ $(CASES)/%.toml: $(TABLE) $(HERE)/case.awk | $(CASES)
 # run to `pack --resume`: the next `make` goes on from its last checkpoint,
 # and pack.time adds up the legs. A partial run older than its case file is
 # another bed's and is removed first; without a partial run the time starts
-# from zero. With no partial run here, a parked one ($(PARKED), see `park`)
-# is copied in first, with its pack time.
+# from zero, unless a parked run ($(PARKED), see `park`) is there to be
+# copied in, with its pack time.
 PARTIAL = $(RUNS)/$*.run.mcap $(RUNS)/$*.run.mcap.part $(RUNS)/$*.run.mcap.resume
 $(RUNS)/%.mcap: $(CASES)/%.toml $(PELLETS) | $(RUNS)
-	partial=; for f in $(PARTIAL); do if [ -f $$f ]; then partial=1; fi; done; \
-	  if [ -z "$$partial" ] && [ -f $(PARKED)/$*.run.mcap ]; then \
-	  cp $(PARKED)/$*.run.mcap $(RUNS)/$*.run.mcap; \
-	  if [ -f $(PARKED)/$*.pack.time ]; then cp $(PARKED)/$*.pack.time $(RUNS)/$*.pack.time; fi; fi
 	partial=; for f in $(PARTIAL); do \
 	  if [ -f $$f ] && [ $< -nt $$f ]; then rm -f $$f; fi; if [ -f $$f ]; then partial=1; fi; done; \
-	  if [ -z "$$partial" ]; then rm -f $(RUNS)/$*.pack.time; fi
+	  if [ -z "$$partial" ]; then rm -f $(RUNS)/$*.pack.time; \
+	  if [ -f $(PARKED)/$*.run.mcap ]; then cp $(PARKED)/$*.run.mcap $(RUNS)/$*.run.mcap; \
+	  if [ -f $(PARKED)/$*.pack.time ]; then cp $(PARKED)/$*.pack.time $(RUNS)/$*.pack.time; fi; fi; fi
 	sh $(HERE)/timed.sh -a $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --resume --quiet \
 	  2> $(RUNS)/$*.pack.err || { cat $(RUNS)/$*.pack.err >&2; grep -q 'did not settle within --max-time' $(RUNS)/$*.pack.err; }
 	rm -f $(RUNS)/$*.pack.err
