@@ -81,6 +81,20 @@ fn rotation(p: &Pellet<'_>) -> Mat3 {
     *p.body.orientation.to_rotation_matrix().matrix()
 }
 
+/// The most a contact gap measured against a pellet of `shape` (bounding radius `r`) can jump
+/// under a vanishing motion, beyond its Lipschitz change: where a ring's edge–edge gap takes
+/// over from the SDF or gives way to it (both lie within ±`EDGE_BAND` · r of zero there), and
+/// 10 µm for a golden-section search (a rim point, the tube's nearest rim point) that lands in
+/// another local minimum. Used to skip re-evaluating contacts that stay open
+/// (`dynamics::stabilize`).
+pub fn gap_jump(shape: &ShapeDesc, r: Real) -> Real {
+    let search = 1e-5;
+    match shape {
+        ShapeDesc::HollowCylinder { .. } => search + 2.0 * EDGE_BAND * r,
+        _ => search,
+    }
+}
+
 /// Golden-section minimum of `f` on [lo, hi] (f unimodal there); returns (argmin, min).
 pub(crate) fn golden_min(f: impl Fn(Real) -> Real, mut lo: Real, mut hi: Real) -> (Real, Real) {
     let r = 0.5 * (5f64.sqrt() - 1.0);
@@ -490,9 +504,9 @@ pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
 /// refined rim point 3.5e-7 m away that was the patch's second real contact; the pellet then
 /// rotated about the one kept contact and that rim point sank 8.3e-5 m within one substep
 /// (t23, NOTES.md problem 2). A flat patch has all its points in the band: unchanged.
-pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real) -> Vec<usize> {
+pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real) -> Reduced {
     if patch.len() <= 4 {
-        return patch.to_vec();
+        return Reduced::of(patch);
     }
     let p = |k: usize| hits[patch[k]].pa;
     let g_min = patch.iter().map(|&k| hits[k].gap).fold(Real::INFINITY, Real::min);
@@ -519,13 +533,13 @@ pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real) -> Vec
     let extent = best(&|k| (p(k) - p(i0)).norm(), &|_| true).1;
     let (i1, d1) = argmax(&|k| (p(k) - p(i0)).norm_squared(), (SPREAD * extent).powi(2));
     if d1 <= 0.0 {
-        return vec![patch[i0]];
+        return Reduced::of(&[patch[i0]]);
     }
     let area = |u: usize, v: usize, q: usize| n.dot(&(p(v) - p(u)).cross(&(p(q) - p(u))));
     let floor = SPREAD * extent * d1.sqrt();
     let (i2, a2) = argmax(&|k| area(i0, i1, k).abs(), floor);
     if a2 <= 0.0 {
-        return vec![patch[i0], patch[i1]];
+        return Reduced::of(&[patch[i0], patch[i1]]);
     }
     let sigma = area(i0, i1, i2).signum();
     // Area outside each edge of the triangle (positive on the side away from the triangle).
@@ -533,9 +547,33 @@ pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real) -> Vec
         [(i0, i1), (i1, i2), (i2, i0)].iter().map(|&(u, v)| -sigma * area(u, v, k)).fold(Real::NEG_INFINITY, Real::max)
     };
     let (i3, a3) = argmax(&outside, floor);
-    let mut keep = vec![patch[i0], patch[i1], patch[i2]];
     if a3 > 0.0 {
-        keep.push(patch[i3]);
+        Reduced::of(&[patch[i0], patch[i1], patch[i2], patch[i3]])
+    } else {
+        Reduced::of(&[patch[i0], patch[i1], patch[i2]])
     }
-    keep
+}
+
+/// The ≤ 4 hit indices [`reduce`] keeps, in its order, without a heap allocation: a vector per
+/// patch (and its growth from 3 to 4) was most of the allocations under `sampled_pair`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Reduced {
+    kept: [usize; 4],
+    len: usize,
+}
+
+impl Reduced {
+    fn of(kept: &[usize]) -> Self {
+        let mut out = Self { kept: [0; 4], len: kept.len() };
+        out.kept[..kept.len()].copy_from_slice(kept);
+        out
+    }
+}
+
+impl IntoIterator for Reduced {
+    type Item = usize;
+    type IntoIter = std::iter::Take<std::array::IntoIter<usize, 4>>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.kept.into_iter().take(self.len)
+    }
 }

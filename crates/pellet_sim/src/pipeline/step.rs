@@ -12,13 +12,15 @@ use crate::dynamics::collide::collision_phase;
 use crate::dynamics::integrator::advance;
 use crate::dynamics::resting::resting_phase;
 use crate::dynamics::rows::relative_velocity_from;
-use crate::dynamics::stabilize::project_positions;
+use crate::dynamics::stabilize::{project_positions, GapBounds};
 use crate::error::SimError;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
+use crate::geometry::contact_sampled::gap_jump;
 use crate::geometry::narrow_phase::{collide_feature, collide_pair_cached, collide_wall, Pellet};
 use crate::geometry::pair_cache::PairCache;
 use crate::geometry::sample_cache::SampleCache;
 use crate::geometry::samples::GeometryCache;
+use crate::geometry::sdf::lipschitz;
 use crate::math::{Real, Vec3};
 use crate::shape::{BodyType, ShapeDesc};
 use serde::{Deserialize, Serialize};
@@ -147,12 +149,28 @@ impl World {
         Pellet { index, body: &bodies[index], shape: &self.types[ty].shape, geom: &self.geometry.types[ty] }
     }
 
+    /// The projection's bounds on how fast a gap can close (`GapBounds`): a point a gap is
+    /// measured from or in lies within the two bodies' bounding radii of either centre (plus a
+    /// gap of up to the largest radius, far above any contact's look-ahead).
+    pub fn gap_bounds(&self) -> GapBounds {
+        let radius = |b: &Body| self.types[b.type_id.0 as usize].bounding_radius_m;
+        let r_max = self.bodies.iter().map(radius).fold(0.0, Real::max);
+        GapBounds {
+            lipschitz: self.types.iter().map(|t| lipschitz(&t.shape)).fold(1.0, Real::max),
+            lever: self.bodies.iter().map(|b| radius(b) + 2.0 * r_max).collect(),
+            jump: self.bodies.iter().map(|b| gap_jump(&self.types[b.type_id.0 as usize].shape, radius(b))).collect(),
+        }
+    }
+
     fn narrow_phase(&self, prox: &Proximity, max_gap: Real, cache: &mut SampleCache) -> Result<Vec<Contact>, SimError> {
         // Room for one contact per pair and wall (what sphere beds give) without regrowing, and
-        // for a reduced patch of 4 per pair of other shapes: growing it contact by contact (a
-        // copy of the whole vector each time) was 2.2 % of a cylinder bed.
-        let per_pair = if self.types.iter().all(|t| matches!(t.shape, ShapeDesc::Sphere { .. })) { 1 } else { 4 };
-        let mut out = Vec::with_capacity(per_pair * prox.pairs.len() + prox.walls.len());
+        // for other shapes a reduced patch of 4 per pair and 8 per wall (4 points on each of
+        // the two rims that rest on the floor): growing it contact by contact (a copy of the
+        // whole vector each time) was 2.2 % of a cylinder bed, and with room for one wall
+        // contact only, its regrowth under the wall contacts was still 1.9 % of 20 cylinders.
+        let spheres = self.types.iter().all(|t| matches!(t.shape, ShapeDesc::Sphere { .. }));
+        let (per_pair, per_wall) = if spheres { (1, 1) } else { (4, 8) };
+        let mut out = Vec::with_capacity(per_pair * prox.pairs.len() + per_wall * prox.walls.len());
         cache.next_round();
         for &(i, j) in &prox.pairs {
             let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
@@ -226,6 +244,7 @@ impl World {
         let slop = self.params.slop_factor * d;
         let pen_max = self.params.max_penetration_factor * self.nominal_size();
         pipeline.saved.clone_from(&self.bodies);
+        let bounds = self.gap_bounds();
         let mut dt = dt0;
         let mut rewinds = 0;
         loop {
@@ -282,7 +301,7 @@ impl World {
             let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
             let mut bodies = std::mem::take(&mut self.bodies);
             let clock = std::time::Instant::now();
-            let proj = project_positions(&mut bodies, &contacts, &eval, slop, 0.01 * d, &g);
+            let proj = project_positions(&mut bodies, &contacts, &eval, &bounds, slop, 0.01 * d, &g);
             report.wall_seconds[3] += clock.elapsed().as_secs_f64();
             self.bodies = bodies;
             if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
