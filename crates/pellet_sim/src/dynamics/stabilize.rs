@@ -35,8 +35,8 @@ pub type ContactEval<'a> = dyn Fn(&[Body], &Contact) -> Option<Contact> + 'a;
 /// |Δθ_k|) over its two bodies (the SDFs are `lipschitz`-Lipschitz, and every point that a gap
 /// is measured from or in lies within `lever[k]` of body k's centre), plus `jump[k]` where the
 /// narrow phase switches how it measures (a ring's edge–edge gap, a search that lands in
-/// another minimum). Per body, indexed like the bodies.
-#[derive(Debug, Clone, Default)]
+/// another minimum). Per body, indexed like the bodies (`World::gap_bounds` builds them).
+#[derive(Debug, Clone)]
 pub struct GapBounds {
     /// Lipschitz constant of the gap in a point's position.
     pub lipschitz: Real,
@@ -105,7 +105,7 @@ pub fn project_positions(
                 let dx = Vec3::new(delta[6 * slot], delta[6 * slot + 1], delta[6 * slot + 2]);
                 let dth = Vec3::new(delta[6 * slot + 3], delta[6 * slot + 4], delta[6 * slot + 5]);
                 moves[k] += 1;
-                cache.drift[k] += dx.norm() + bounds.lever.get(k).copied().unwrap_or(Real::INFINITY) * dth.norm();
+                cache.drift[k] += dx.norm() + bounds.lever[k] * dth.norm();
                 let body = &mut bodies[k];
                 body.position += dx;
                 st.potential_change -= body.mass * gravity.dot(&dx);
@@ -156,8 +156,7 @@ impl ContactCache<'_, '_> {
         let fresh = match &self.entries[i] {
             Some(e) if e.stamp == stamp => true,
             Some(CachedContact { drift: d0, contact: Some(old), .. }) => {
-                let jump = self.bounds.jump.get(c.a).copied().unwrap_or(Real::INFINITY)
-                    + b.map_or(0.0, |b| self.bounds.jump.get(b).copied().unwrap_or(Real::INFINITY));
+                let jump = self.bounds.jump[c.a] + b.map_or(0.0, |b| self.bounds.jump[b]);
                 let fall = self.bounds.lipschitz * ((drift.0 - d0.0) + (drift.1 - d0.1)) + jump;
                 if old.gap - fall > 0.0 {
                     return None;
