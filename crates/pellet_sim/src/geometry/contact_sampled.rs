@@ -85,11 +85,14 @@ fn rotation(p: &Pellet<'_>) -> Mat3 {
 /// under a vanishing motion, beyond its Lipschitz change: where a ring's edge–edge gap takes
 /// over from the SDF or gives way to it (both lie within ±`EDGE_BAND` · r of zero there), and
 /// 10 µm for a golden-section search (a rim point, the tube's nearest rim point) that lands in
-/// another local minimum. Used to skip re-evaluating contacts that stay open
+/// another local minimum. A sphere's gaps are closed forms in its centre (a distance between
+/// centres, to a plane or an axis, or another shape's SDF at the centre): only round-off, for
+/// which 1 nm is ample. Used to skip re-evaluating contacts that stay open
 /// (`dynamics::stabilize`).
 pub fn gap_jump(shape: &ShapeDesc, r: Real) -> Real {
     let search = 1e-5;
     match shape {
+        ShapeDesc::Sphere { .. } => 1e-9,
         ShapeDesc::HollowCylinder { .. } => search + 2.0 * EDGE_BAND * r,
         _ => search,
     }

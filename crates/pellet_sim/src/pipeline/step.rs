@@ -151,14 +151,20 @@ impl World {
 
     /// The projection's bounds on how fast a gap can close (`GapBounds`): a point a gap is
     /// measured from or in lies within the two bodies' bounding radii of either centre (plus a
-    /// gap of up to the largest radius, far above any contact's look-ahead).
+    /// gap of up to the largest radius, far above any contact's look-ahead). A sphere's turn
+    /// changes none of its gaps (each is a function of its centre), so its lever is zero.
     pub fn gap_bounds(&self) -> GapBounds {
+        let shape = |b: &Body| &self.types[b.type_id.0 as usize].shape;
         let radius = |b: &Body| self.types[b.type_id.0 as usize].bounding_radius_m;
         let r_max = self.bodies.iter().map(radius).fold(0.0, Real::max);
+        let lever = |b: &Body| match shape(b) {
+            ShapeDesc::Sphere { .. } => 0.0,
+            _ => radius(b) + 2.0 * r_max,
+        };
         GapBounds {
             lipschitz: self.types.iter().map(|t| lipschitz(&t.shape)).fold(1.0, Real::max),
-            lever: self.bodies.iter().map(|b| radius(b) + 2.0 * r_max).collect(),
-            jump: self.bodies.iter().map(|b| gap_jump(&self.types[b.type_id.0 as usize].shape, radius(b))).collect(),
+            lever: self.bodies.iter().map(lever).collect(),
+            jump: self.bodies.iter().map(|b| gap_jump(shape(b), radius(b))).collect(),
         }
     }
 
@@ -301,7 +307,7 @@ impl World {
             let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
             let mut bodies = std::mem::take(&mut self.bodies);
             let clock = std::time::Instant::now();
-            let proj = project_positions(&mut bodies, &contacts, &eval, &bounds, slop, 0.01 * d, &g);
+            let proj = project_positions(&mut bodies, &contacts, &pipeline.saved, &eval, &bounds, slop, 0.01 * d, &g);
             report.wall_seconds[3] += clock.elapsed().as_secs_f64();
             self.bodies = bodies;
             if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
