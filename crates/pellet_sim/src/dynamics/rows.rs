@@ -127,6 +127,47 @@ impl Row {
         }
     }
 
+    /// [`Self::dot`] over the 6 velocity entries of A and of B held apart (`ub` unread if B is
+    /// static): the same arithmetic, so the same bits. Lets a contact's normal and tangential
+    /// rows work on their two bodies' entries in registers (`coupled_pgs`).
+    #[inline]
+    pub fn dot_pair(&self, ua: &[Real; 6], ub: &[Real; 6]) -> Real {
+        if self.linear {
+            let dot3 = |l: &Vec3, v: &[Real; 6]| l.x * v[0] + l.y * v[1] + l.z * v[2];
+            let mut s = dot3(&self.dir, ua);
+            if self.b.is_some() {
+                s -= dot3(&self.dir, ub);
+            }
+            return s;
+        }
+        let dot6 = |l: &Vec3, w: &Vec3, v: &[Real; 6]| {
+            (l.x * v[0] + l.y * v[1] + l.z * v[2]) + (w.x * v[3] + w.y * v[4] + w.z * v[5])
+        };
+        let mut s = dot6(&self.dir, &self.ang_a, ua);
+        if self.b.is_some() {
+            s -= dot6(&self.dir, &self.ang_b, ub);
+        }
+        s
+    }
+
+    /// [`Self::add_response`] into A's and B's entries held apart (`ub` untouched if B is
+    /// static): the same arithmetic.
+    #[inline]
+    pub fn add_response_pair(&self, s: Real, ua: &mut [Real; 6], ub: &mut [Real; 6]) {
+        let end = |v: &mut [Real; 6], l: &Vec3, w: &Vec3, angular: bool| {
+            for c in 0..3 {
+                v[c] += s * l[c];
+                if angular {
+                    v[3 + c] += s * w[c];
+                }
+            }
+        };
+        end(ua, &self.w[0], &self.w[1], !self.linear);
+        if self.b.is_some() {
+            end(ub, &self.w[2], &self.w[3], !self.linear);
+        }
+    }
+
     /// The world force and torque (about each centre) that a multiplier `f` puts on A and B.
     pub fn wrench(&self, f: Real) -> [(Vec3, Vec3); 2] {
         [(self.dir * f, self.ang_a * f), (-self.dir * f, -self.ang_b * f)]
@@ -327,6 +368,38 @@ mod tests {
         }
         for (r, yi) in rows.iter().zip(&y) {
             assert_eq!(r.dot(&u).to_bits(), yi.to_bits());
+        }
+    }
+
+    /// The products over two bodies' entries held apart give the bits of the products over the
+    /// stacked vector, for rows with and without torques, with a dynamic and a static B.
+    #[test]
+    fn products_over_a_pair_of_bodies_equal_the_stacked_ones() {
+        let masses = [
+            BodyMass { inv_mass: 2.0, inv_inertia: Mat3::from_diagonal(&Vec3::new(3.0, 4.0, 5.0)) },
+            BodyMass { inv_mass: 0.5, inv_inertia: Mat3::from_diagonal(&Vec3::new(6.0, 7.0, 8.0)) },
+            BodyMass { inv_mass: 1.5, inv_inertia: Mat3::from_diagonal(&Vec3::new(9.0, 2.0, 4.0)) },
+        ];
+        let n = Vec3::new(0.3, -0.7, 0.2).normalize();
+        let off = Vec3::new(1e-4, -2e-4, 3e-5);
+        let rows = [
+            Row::new(2, Some(0), &(-n * 0.005 + off), &(n * 0.004), &n, &masses),
+            Row::new(2, Some(0), &(-n * 0.005), &(n * 0.004), &n, &masses),
+            Row::new(1, None, &(n * 0.003 + off), &Vec3::zeros(), &n, &masses),
+            Row::new(1, None, &(n * 0.003), &Vec3::zeros(), &n, &masses),
+        ];
+        for row in &rows {
+            let mut u: Vec<Real> = (0..18).map(|k| (k as Real * 0.77).sin()).collect();
+            let pick = |u: &[Real], k: usize| -> [Real; 6] { u[6 * k..6 * k + 6].try_into().unwrap() };
+            let b = row.b.unwrap_or(0);
+            let (mut ua, mut ub) = (pick(&u, row.a), pick(&u, b));
+            assert_eq!(row.dot_pair(&ua, &ub).to_bits(), row.dot(&u).to_bits());
+            row.add_response(-1.37, &mut u);
+            row.add_response_pair(-1.37, &mut ua, &mut ub);
+            assert_eq!(ua.map(Real::to_bits), pick(&u, row.a).map(Real::to_bits));
+            if row.b.is_some() {
+                assert_eq!(ub.map(Real::to_bits), pick(&u, b).map(Real::to_bits));
+            }
         }
     }
 
