@@ -10,7 +10,7 @@
 //! the cost is bounded by the sweep cap. `island_solve` uses it only on islands whose
 //! frictional contacts are all static, so dynamic (sliding) entries are left as given.
 
-use super::friction_update::{add_friction_response, static_step_from, Friction, FrictionEntry};
+use super::friction_update::{add_friction_response, static_step, Friction, FrictionEntry};
 use super::lcp::{LcpReport, LcpStatus};
 use super::rows::RowSystem;
 use crate::math::Real;
@@ -138,7 +138,7 @@ impl CoupledProblem<'_> {
             }
         }
         let jt = (x.t1.dot_pair(&ua, &ub), x.t2.dot_pair(&ua, &ub));
-        let (n1, n2) = static_step_from(x, self.free_t[e], jt, *g, f[i], self.dt);
+        let (n1, n2) = static_step(x, self.free_t[e], jt, *g, f[i], self.dt);
         let change = ((n1 - g.0) * x.t1.diag).abs().max(((n2 - g.1) * x.t2.diag).abs());
         worst = Real::max(worst, change);
         x.t1.add_response_pair(n1 - g.0, &mut ua, &mut ub);

@@ -18,7 +18,7 @@ use crate::params::{EngineParams, FrictionClamp};
 const STATIC_SWEEPS: usize = 5;
 
 /// The relative margin below μ² f² under which a static step skips the exact disc test
-/// ([`static_step_from`]): 2⁻⁴⁰, far above the few ulps that rounding can take.
+/// ([`static_step`]): 2⁻⁴⁰, far above the few ulps that rounding can take.
 const INSIDE_MARGIN: Real = 1.0 / (1u64 << 40) as Real;
 
 /// Whether a resting contact slides.
@@ -97,10 +97,21 @@ pub fn update_static(
             if x.kind != Friction::Static {
                 continue;
             }
-            let (n1, n2) = static_step(x, *ft, &acc, *g, f[x.contact], dt);
-            x.t1.add_response(n1 - g.0, &mut acc);
-            x.t2.add_response(n2 - g.1, &mut acc);
+            // Both tangential rows on the contact's two bodies' entries held in registers
+            // (`Row::dot_pair`): the arithmetic of `static_step` and `add_response`.
+            let (ka, kb) = (x.t1.a, x.t1.b);
+            let mut ua: [Real; 6] = acc[6 * ka..6 * ka + 6].try_into().expect("6 entries per body");
+            let mut ub: [Real; 6] =
+                kb.map_or([0.0; 6], |k| acc[6 * k..6 * k + 6].try_into().expect("6 entries per body"));
+            let jt = (x.t1.dot_pair(&ua, &ub), x.t2.dot_pair(&ua, &ub));
+            let (n1, n2) = static_step(x, *ft, jt, *g, f[x.contact], dt);
+            x.t1.add_response_pair(n1 - g.0, &mut ua, &mut ub);
+            x.t2.add_response_pair(n2 - g.1, &mut ua, &mut ub);
             *g = (n1, n2);
+            acc[6 * ka..6 * ka + 6].copy_from_slice(&ua);
+            if let Some(k) = kb {
+                acc[6 * k..6 * k + 6].copy_from_slice(&ub);
+            }
         }
     }
 }
@@ -121,22 +132,11 @@ pub fn add_friction_response(fric: &[FrictionEntry], gt: &[(Real, Real)], acc: &
 
 /// One Gauss–Seidel step of a static contact: the friction multipliers (t1, t2) that bring its
 /// tangential velocity to zero at the end of the substep, from the current multipliers `g` and
-/// the accumulator `acc` (stacked body accelerations of every force so far), projected onto the
-/// disc |g| ≤ μ f of its normal force `f_normal`. `ft` is its free tangential acceleration.
-pub fn static_step(
-    x: &FrictionEntry,
-    ft: (Real, Real),
-    acc: &[Real],
-    g: (Real, Real),
-    f_normal: Real,
-    dt: Real,
-) -> (Real, Real) {
-    static_step_from(x, ft, (x.t1.dot(acc), x.t2.dot(acc)), g, f_normal, dt)
-}
-
-/// [`static_step`] from the two tangential rows' products with the accumulator, `jt`.
+/// `jt`, the products of its two tangential rows with the accumulator (stacked body
+/// accelerations of every force so far), projected onto the disc |g| ≤ μ f of its normal force
+/// `f_normal`. `ft` is its free tangential acceleration.
 #[inline]
-pub fn static_step_from(
+pub fn static_step(
     x: &FrictionEntry,
     ft: (Real, Real),
     jt: (Real, Real),
