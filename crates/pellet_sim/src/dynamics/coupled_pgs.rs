@@ -82,7 +82,7 @@ impl CoupledProblem<'_> {
                     let a = self.b0[i] + row.dot(&acc);
                     worst = worst.max((row.diag * f[i]).min(a).abs());
                     min_a = Real::min(min_a, a);
-                    let new = (f[i] - a / row.diag).max(0.0);
+                    let new = (f[i] - a * row.inv_diag).max(0.0);
                     if new != f[i] {
                         row.add_response(new - f[i], &mut acc);
                         f[i] = new;
@@ -129,9 +129,8 @@ impl CoupledProblem<'_> {
             let a = self.b0[i] + row.dot_pair(&ua, &ub);
             worst = (row.diag * f[i]).min(a).abs();
             normal_a = Some(a);
-            // A contact without force that separates keeps none (new would be ±0, equal to 0):
-            // the division is left out (it sits on the sweep's dependency chain).
-            let new = if f[i] == 0.0 && a >= 0.0 { f[i] } else { (f[i] - a / row.diag).max(0.0) };
+            // A contact without force that separates keeps none (new would be ±0, equal to 0).
+            let new = if f[i] == 0.0 && a >= 0.0 { f[i] } else { (f[i] - a * row.inv_diag).max(0.0) };
             if new != f[i] {
                 row.add_response_pair(new - f[i], &mut ua, &mut ub);
                 f[i] = new;

@@ -146,8 +146,8 @@ pub fn static_step(
 ) -> (Real, Real) {
     let a1 = ft.0 + jt.0 + x.slip.0 / dt;
     let a2 = ft.1 + jt.1 + x.slip.1 / dt;
-    let n1 = g.0 - a1 / x.t1.diag;
-    let n2 = g.1 - a2 / x.t2.diag;
+    let n1 = g.0 - a1 * x.t1.inv_diag;
+    let n2 = g.1 - a2 * x.t2.inv_diag;
     onto_disc(n1, n2, x.mu * f_normal)
 }
 

@@ -24,6 +24,10 @@ pub struct Row {
     w: [Vec3; 4],
     /// A_ii.
     pub diag: Real,
+    /// 1 / A_ii, for the Gauss–Seidel updates f − a / A_ii of the friction sweeps and the
+    /// coupled polish: there the division sat on the sweeps' dependency chain (a
+    /// high-friction cylinder bed took 20 % longer with it; engine NOTES, eighteenth session).
+    pub inv_diag: Real,
     /// The row's torques are zero to round-off (a normal through both centres, as at every
     /// sphere contact): its products skip the angular half.
     linear: bool,
@@ -69,7 +73,7 @@ impl Row {
             }
             None => (Vec3::zeros(), Vec3::zeros()),
         };
-        Self { a, b, dir: *dir, ang_a, ang_b, w: [wa_l, wa_a, wb_l, wb_a], diag, linear }
+        Self { a, b, dir: *dir, ang_a, ang_b, w: [wa_l, wa_a, wb_l, wb_a], diag, inv_diag: 1.0 / diag, linear }
     }
 
     /// J_i · u for stacked body velocities `u` (6 per body: linear, angular).
