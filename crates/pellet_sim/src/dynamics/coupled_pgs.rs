@@ -12,7 +12,7 @@
 
 use super::friction_update::{add_friction_response, static_step, Friction, FrictionEntry};
 use super::lcp::{LcpReport, LcpStatus};
-use super::rows::RowSystem;
+use super::rows::{load_pair, store_pair, RowSystem};
 use crate::math::Real;
 
 /// One island's coupled problem.
@@ -121,9 +121,7 @@ impl CoupledProblem<'_> {
         acc: &mut [Real],
     ) -> (Real, Option<Real>) {
         let (row, x) = (&self.sys.rows[i], &self.fric[e]);
-        let (ka, kb) = (row.a, row.b);
-        let mut ua: [Real; 6] = acc[6 * ka..6 * ka + 6].try_into().expect("6 entries per body");
-        let mut ub: [Real; 6] = kb.map_or([0.0; 6], |k| acc[6 * k..6 * k + 6].try_into().expect("6 entries per body"));
+        let (mut ua, mut ub) = load_pair(acc, row.a, row.b);
         let (mut worst, mut normal_a) = (0.0, None);
         if row.diag > 0.0 {
             let a = self.b0[i] + row.dot_pair(&ua, &ub);
@@ -143,10 +141,7 @@ impl CoupledProblem<'_> {
         x.t1.add_response_pair(n1 - g.0, &mut ua, &mut ub);
         x.t2.add_response_pair(n2 - g.1, &mut ua, &mut ub);
         *g = (n1, n2);
-        acc[6 * ka..6 * ka + 6].copy_from_slice(&ua);
-        if let Some(k) = kb {
-            acc[6 * k..6 * k + 6].copy_from_slice(&ub);
-        }
+        store_pair(acc, row.a, row.b, &ua, &ub);
         (worst, normal_a)
     }
 }

@@ -2,7 +2,7 @@
 //! dynamic friction −μ f along the slip at contacts slipping faster than εf, and static
 //! friction (a switch) by Gauss–Seidel on the tangential rows of the others.
 
-use super::rows::{Row, RowSystem};
+use super::rows::{load_pair, store_pair, Row, RowSystem};
 use crate::math::Real;
 use crate::params::{EngineParams, FrictionClamp};
 
@@ -99,19 +99,13 @@ pub fn update_static(
             }
             // Both tangential rows on the contact's two bodies' entries held in registers
             // (`Row::dot_pair`): the arithmetic of `static_step` and `add_response`.
-            let (ka, kb) = (x.t1.a, x.t1.b);
-            let mut ua: [Real; 6] = acc[6 * ka..6 * ka + 6].try_into().expect("6 entries per body");
-            let mut ub: [Real; 6] =
-                kb.map_or([0.0; 6], |k| acc[6 * k..6 * k + 6].try_into().expect("6 entries per body"));
+            let (mut ua, mut ub) = load_pair(&acc, x.t1.a, x.t1.b);
             let jt = (x.t1.dot_pair(&ua, &ub), x.t2.dot_pair(&ua, &ub));
             let (n1, n2) = static_step(x, *ft, jt, *g, f[x.contact], dt);
             x.t1.add_response_pair(n1 - g.0, &mut ua, &mut ub);
             x.t2.add_response_pair(n2 - g.1, &mut ua, &mut ub);
             *g = (n1, n2);
-            acc[6 * ka..6 * ka + 6].copy_from_slice(&ua);
-            if let Some(k) = kb {
-                acc[6 * k..6 * k + 6].copy_from_slice(&ub);
-            }
+            store_pair(&mut acc, x.t1.a, x.t1.b, &ua, &ub);
         }
     }
 }

@@ -178,6 +178,23 @@ impl Row {
     }
 }
 
+/// Body `a`'s and (if dynamic) body `b`'s 6 entries of a stacked body vector, for
+/// [`Row::dot_pair`] and [`Row::add_response_pair`] (zeros for a static B).
+#[inline]
+pub fn load_pair(u: &[Real], a: usize, b: Option<usize>) -> ([Real; 6], [Real; 6]) {
+    let six = |k: usize| -> [Real; 6] { u[6 * k..6 * k + 6].try_into().expect("6 entries per body") };
+    (six(a), b.map_or([0.0; 6], six))
+}
+
+/// Writes back what [`load_pair`] read.
+#[inline]
+pub fn store_pair(u: &mut [Real], a: usize, b: Option<usize>, ua: &[Real; 6], ub: &[Real; 6]) {
+    u[6 * a..6 * a + 6].copy_from_slice(ua);
+    if let Some(k) = b {
+        u[6 * k..6 * k + 6].copy_from_slice(ub);
+    }
+}
+
 /// A row through both centres in the compact form [`LcpMatrix::mul`] uses: the numbers of
 /// [`Row`]'s linear path and nothing else (88 bytes instead of 208), over 3 velocity entries
 /// per body instead of 6.
