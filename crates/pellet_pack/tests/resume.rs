@@ -55,25 +55,30 @@ fn after(whole: &Recorder, t: f64) -> (Vec<Frame>, Vec<EnergyRecord>) {
     )
 }
 
+/// The time limit of the run that is interrupted and resumed, s.
+const LIMIT: f64 = 0.6;
+
 #[test]
 fn a_resumed_run_equals_the_uninterrupted_one() {
     let pellet = cylinder();
     let mut whole = Recorder::default();
-    let summary = run_pack(&config(0.8), &pellet, &mut whole).unwrap();
+    // The limit comes well before the bed settles (at 0.80 s with the engine of 68a6bb6; at
+    // 0.8 s exactly, the limit this test had, it settled on its last record).
+    let summary = run_pack(&config(LIMIT), &pellet, &mut whole).unwrap();
     assert_eq!(summary.ending, Ending::TimeLimit);
     // Checkpoints every 0.1 s and one at the end.
-    assert!(whole.checkpoints.len() >= 8, "{} checkpoints", whole.checkpoints.len());
+    assert!(whole.checkpoints.len() >= 6, "{} checkpoints", whole.checkpoints.len());
 
     // Killed at 0.35 s: go on from the last checkpoint it wrote on the way (at 0.3 s).
     let mut first = Recorder { stop_after: Some(70), ..Recorder::default() };
-    assert_eq!(run_pack(&config(0.8), &pellet, &mut first).unwrap().ending, Ending::Interrupted);
+    assert_eq!(run_pack(&config(LIMIT), &pellet, &mut first).unwrap().ending, Ending::Interrupted);
     let (t, bytes) = first.checkpoints.iter().rev().nth(1).expect("a checkpoint on the way").clone();
     assert!((t - 0.3).abs() < 1e-9, "checkpoint at {t}");
     let checkpoint = Checkpoint::decode(&bytes, "test").unwrap();
     assert_eq!(checkpoint.run.ending, None);
     assert!(checkpoint.world.bodies.len() >= 2, "pellets in the tube by then");
     let mut rest = Recorder::default();
-    assert_eq!(key(&resume_pack(&config(0.8), &pellet, &mut rest, Some(checkpoint)).unwrap()), key(&summary));
+    assert_eq!(key(&resume_pack(&config(LIMIT), &pellet, &mut rest, Some(checkpoint)).unwrap()), key(&summary));
     let (frames, energy) = after(&whole, t);
     assert_eq!(rest.frames, frames);
     assert_eq!(rest.energy, energy);
@@ -83,7 +88,7 @@ fn a_resumed_run_equals_the_uninterrupted_one() {
     let checkpoint = Checkpoint::decode(&bytes, "test").unwrap();
     assert_eq!(checkpoint.run.ending, Some(Ending::Interrupted));
     let mut rest = Recorder::default();
-    resume_pack(&config(0.8), &pellet, &mut rest, Some(checkpoint)).unwrap();
+    resume_pack(&config(LIMIT), &pellet, &mut rest, Some(checkpoint)).unwrap();
     let (frames, energy) = after(&whole, t_end);
     assert_eq!(rest.frames, frames);
     assert_eq!(rest.energy, energy);
