@@ -80,9 +80,9 @@ impl CoupledProblem<'_> {
                     }
                 } else if row.diag > 0.0 {
                     let a = self.b0[i] + row.dot(&acc);
-                    worst = worst.max((row.diag * f[i]).min(a).abs());
+                    let (measure, new) = normal_step(row.diag, row.inv_diag, f[i], a);
+                    worst = worst.max(measure);
                     min_a = Real::min(min_a, a);
-                    let new = (f[i] - a * row.inv_diag).max(0.0);
                     if new != f[i] {
                         row.add_response(new - f[i], &mut acc);
                         f[i] = new;
@@ -125,10 +125,9 @@ impl CoupledProblem<'_> {
         let (mut worst, mut normal_a) = (0.0, None);
         if row.diag > 0.0 {
             let a = self.b0[i] + row.dot_pair(&ua, &ub);
-            worst = (row.diag * f[i]).min(a).abs();
+            let new;
+            (worst, new) = normal_step(row.diag, row.inv_diag, f[i], a);
             normal_a = Some(a);
-            // A contact without force that separates keeps none (new would be ±0, equal to 0).
-            let new = if f[i] == 0.0 && a >= 0.0 { f[i] } else { (f[i] - a * row.inv_diag).max(0.0) };
             if new != f[i] {
                 row.add_response_pair(new - f[i], &mut ua, &mut ub);
                 f[i] = new;
@@ -144,6 +143,18 @@ impl CoupledProblem<'_> {
         store_pair(acc, row.a, row.b, &ua, &ub);
         (worst, normal_a)
     }
+}
+
+/// A normal row's Gauss–Seidel step from its multiplier `f` and acceleration `a` (diagonal
+/// `diag` > 0, reciprocal `inv_diag`): its contribution to the sweep's measure (the natural
+/// residual |min(diag f, a)|) and its new multiplier, projected on f ≥ 0. A row without force
+/// that separates keeps none; its update would give ±0, which the caller's `new != f` treats
+/// as no change, so the multiply is left out.
+#[inline]
+fn normal_step(diag: Real, inv_diag: Real, f: Real, a: Real) -> (Real, Real) {
+    let measure = (diag * f).min(a).abs();
+    let new = if f == 0.0 && a >= 0.0 { f } else { (f - a * inv_diag).max(0.0) };
+    (measure, new)
 }
 
 #[cfg(test)]

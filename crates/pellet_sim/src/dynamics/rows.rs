@@ -413,7 +413,7 @@ mod tests {
             let mut u: Vec<Real> = (0..18).map(|k| (k as Real * 0.77).sin()).collect();
             let pick = |u: &[Real], k: usize| -> [Real; 6] { u[6 * k..6 * k + 6].try_into().unwrap() };
             let b = row.b.unwrap_or(0);
-            let (mut ua, mut ub) = (pick(&u, row.a), pick(&u, b));
+            let (mut ua, mut ub) = load_pair(&u, row.a, row.b);
             assert_eq!(row.dot_pair(&ua, &ub).to_bits(), row.dot(&u).to_bits());
             row.add_response(-1.37, &mut u);
             row.add_response_pair(-1.37, &mut ua, &mut ub);
