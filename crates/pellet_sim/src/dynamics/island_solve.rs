@@ -77,6 +77,9 @@ pub struct IslandSolution {
     pub gt: Vec<(Real, Real)>,
     /// The last solver report.
     pub report: Option<LcpReport>,
+    /// The tolerance the last solve was asked for, m/s² (0 before any): the engine's own
+    /// tolerance, or a looser one for an island in motion (`solve_with`).
+    pub tolerance: Real,
     /// Solver iterations, summed.
     pub iterations: usize,
     /// Dynamic friction forces dropped by the energy guard.
@@ -193,6 +196,7 @@ impl IslandProblem<'_> {
             );
             sol.iterations += rep.iterations;
             sol.report = Some(rep);
+            sol.tolerance = round_tol;
         };
         // The fixed point from the warm normal forces `f0`; with `warm_friction` its first
         // round's b already holds the friction of `f0`. Returns the solution and the last
@@ -209,6 +213,7 @@ impl IslandProblem<'_> {
                 f: f0.to_vec(),
                 gt: if warm_friction { self.g0.to_vec() } else { vec![(0.0, 0.0); fric.len()] },
                 report: None,
+                tolerance: 0.0,
                 iterations: 0,
                 dropped: 0,
             };
@@ -312,6 +317,7 @@ impl IslandProblem<'_> {
             let rep = problem.solve(&mut sol.f, &mut sol.gt, tol, p.coupled_friction_sweeps);
             sol.iterations += rep.iterations;
             sol.report = Some(rep);
+            sol.tolerance = tol;
         }
         // Dropping friction changes the normal problem (friction enters it through b).
         self.guard(&mut sol, |s| solve(&coupled_rhs(&s.gt), s, tol));

@@ -27,6 +27,11 @@ pub struct RestingStats {
     pub solver_iterations: usize,
     /// Worst final residual, m/s².
     pub residual: Real,
+    /// Worst final residual of the islands whose last solve had the engine's tolerance, m/s²:
+    /// all but islands in motion, whose last solve an unconverged friction fixed point leaves
+    /// at the rounds' looser tolerance (`island_solve`), so `residual` can be metres per
+    /// second squared in a pour while the islands near rest meet the tolerance.
+    pub residual_tight: Real,
     /// Islands whose solver did not converge (cap hit or infeasible).
     pub unconverged: usize,
     /// Σ f_i εp δt over resting contacts (the bound of T13 b on their work; the work itself is
@@ -225,6 +230,9 @@ pub fn resting_phase(
         stats.friction_dropped += sol.dropped;
         if let Some(rep) = sol.report {
             stats.residual = stats.residual.max(rep.residual);
+            if sol.tolerance <= params.solver_tolerance() {
+                stats.residual_tight = stats.residual_tight.max(rep.residual);
+            }
             if rep.status != LcpStatus::Converged {
                 stats.unconverged += 1;
             }

@@ -120,6 +120,9 @@ pub struct StepReport {
     pub solver_iterations: u64,
     /// Worst resting-solver residual, m/s².
     pub solver_residual: Real,
+    /// Worst resting-solver residual of the islands solved to the engine's tolerance (all but
+    /// islands in motion; `RestingStats::residual_tight`), m/s².
+    pub solver_residual_tight: Real,
     /// Resting islands whose solver did not converge.
     pub unconverged_islands: u32,
     /// Largest island, rows.
@@ -334,6 +337,7 @@ impl World {
             report.friction_guard_drops += rest.friction_dropped;
             report.solver_iterations += (coll.solver_iterations + rest.solver_iterations) as u64;
             report.solver_residual = report.solver_residual.max(rest.residual);
+            report.solver_residual_tight = report.solver_residual_tight.max(rest.residual_tight);
             report.unconverged_islands += rest.unconverged as u32;
             report.largest_island = report.largest_island.max(rest.largest_island);
             report.max_penetration = report.max_penetration.max(proj.max_penetration_before);
