@@ -8,7 +8,7 @@ use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwne
 use super::narrow_phase::Pellet;
 use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
 use super::samples::{cone_alignment, rim_point};
-use super::sdf::{edge_cone, edge_faces, eval, lipschitz};
+use super::sdf::{distance, edge_cone, edge_faces, eval, lipschitz};
 use crate::math::{axial_distance, Mat3, Real, Vec3};
 use crate::shape::ShapeDesc;
 use std::f64::consts::TAU;
@@ -144,8 +144,10 @@ impl<'a> OneWay<'a> {
         Self { src, dst, m, t, rs, rd, src_is_b }
     }
 
-    fn phi(&self, s: &Vec3) -> (Real, Vec3) {
-        eval(self.dst.shape, &(self.m * s + self.t))
+    /// dst's signed distance at body-frame point `s` of src (no gradient: the callers cull and
+    /// search by the value).
+    fn phi(&self, s: &Vec3) -> Real {
+        distance(self.dst.shape, &(self.m * s + self.t))
     }
 
     /// The hit of body-frame sample point `s` (sample `i`) of src, or None if src's surface
@@ -248,7 +250,7 @@ impl<'a> OneWay<'a> {
         let rim = &geo.rims[geo.rim_of[i] as usize];
         let step = TAU / rim.count as Real;
         let t0 = step * (i - rim.start) as Real;
-        let f = |t: Real| self.phi(&rim_point(rim.radius, rim.z, t)).0;
+        let f = |t: Real| self.phi(&rim_point(rim.radius, rim.z, t));
         let (t, _) = golden_min(f, t0 - step, t0 + step);
         rim_point(rim.radius, rim.z, t)
     }
@@ -272,12 +274,12 @@ impl<'a> OneWay<'a> {
         for cl in &geo.clusters {
             let pc = self.m * cl.centre + self.t;
             // Bounding volume first, then the Lipschitz bound φ(s) ≥ φ(c) − L|s − c|.
-            if pc.norm() - cl.radius > r_dst + reach || self.phi(&cl.centre).0 - lip * cl.radius > reach {
+            if pc.norm() - cl.radius > r_dst + reach || self.phi(&cl.centre) - lip * cl.radius > reach {
                 continue;
             }
             for &i in &cl.members {
                 let i = i as usize;
-                let phi = self.phi(&geo.samples[i]).0;
+                let phi = self.phi(&geo.samples[i]);
                 let rim = geo.rim_of[i];
                 let slack = if rim != u32::MAX { geo.rim_spacing(rim as usize) } else { 0.0 };
                 if phi <= max_gap + slack {
@@ -300,7 +302,7 @@ impl<'a> OneWay<'a> {
             let next = r.start + (k + 1) % r.count;
             // Refine only at a local minimum along the rim, so that one crossing gives
             // one refined point (ties broken towards the lower index).
-            if phi <= self.phi(&geo.samples[prev]).0 && phi < self.phi(&geo.samples[next]).0 {
+            if phi <= self.phi(&geo.samples[prev]) && phi < self.phi(&geo.samples[next]) {
                 if let Some(h) = self.hit(&self.refined(i), i, i as u32 | REFINED) {
                     if h.gap <= max_gap {
                         hits.push(h);
@@ -329,7 +331,7 @@ impl<'a> OneWay<'a> {
     fn collect_from(&self, candidates: &[u32], max_gap: Real, hits: &mut Vec<Hit>) {
         for &i in candidates {
             let i = i as usize;
-            let phi = self.phi(&self.src.geom.samples[i]).0;
+            let phi = self.phi(&self.src.geom.samples[i]);
             self.visit(i, phi, max_gap, hits);
         }
     }

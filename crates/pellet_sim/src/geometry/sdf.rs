@@ -55,8 +55,9 @@ impl SdfGrid {
         self.values[i + self.dims[0] * (j + self.dims[1] * k)] as Real
     }
 
-    /// Trilinear value and gradient at `p`.
-    pub fn eval(&self, p: &Vec3) -> (Real, Vec3) {
+    /// Where `p` falls: its offset outside the grid box (m; zero inside), else the values at the
+    /// corners of its cell and its fractional position in the cell.
+    fn locate(&self, p: &Vec3) -> Result<([Real; 8], [Real; 3]), Vec3> {
         let mut u = [0.0; 3];
         let mut outside = Vec3::zeros();
         for a in 0..3 {
@@ -67,8 +68,7 @@ impl SdfGrid {
             u[a] = xc;
         }
         if outside != Vec3::zeros() {
-            let d = outside.norm();
-            return (self.margin + d, outside / d);
+            return Err(outside);
         }
         let idx = |a: usize| -> (usize, Real) {
             let i = (u[a].floor() as usize).min(self.dims[a] - 2);
@@ -76,16 +76,21 @@ impl SdfGrid {
         };
         let ((i, fx), (j, fy), (k, fz)) = (idx(0), idx(1), idx(2));
         let c = |di, dj, dk| self.at(i + di, j + dj, k + dk);
-        let (c000, c100, c010, c110) = (c(0, 0, 0), c(1, 0, 0), c(0, 1, 0), c(1, 1, 0));
-        let (c001, c101, c011, c111) = (c(0, 0, 1), c(1, 0, 1), c(0, 1, 1), c(1, 1, 1));
-        let lerp = |a: Real, b: Real, t: Real| a + (b - a) * t;
-        let x00 = lerp(c000, c100, fx);
-        let x10 = lerp(c010, c110, fx);
-        let x01 = lerp(c001, c101, fx);
-        let x11 = lerp(c011, c111, fx);
-        let y0 = lerp(x00, x10, fy);
-        let y1 = lerp(x01, x11, fy);
-        let v = lerp(y0, y1, fz);
+        let corners = [c(0, 0, 0), c(1, 0, 0), c(0, 1, 0), c(1, 1, 0), c(0, 0, 1), c(1, 0, 1), c(0, 1, 1), c(1, 1, 1)];
+        Ok((corners, [fx, fy, fz]))
+    }
+
+    /// Trilinear value and gradient at `p`.
+    pub fn eval(&self, p: &Vec3) -> (Real, Vec3) {
+        let (c, [fx, fy, fz]) = match self.locate(p) {
+            Ok(cell) => cell,
+            Err(outside) => {
+                let d = outside.norm();
+                return (self.margin + d, outside / d);
+            }
+        };
+        let [c000, c100, c010, c110, c001, c101, c011, c111] = c;
+        let (x00, x10, x01, x11, y0, y1, v) = trilinear(&c, fx, fy, fz);
         let dx = lerp(lerp(c100 - c000, c110 - c010, fy), lerp(c101 - c001, c111 - c011, fy), fz);
         let dy = lerp(x10 - x00, x11 - x01, fz);
         let dz = y1 - y0;
@@ -93,6 +98,33 @@ impl SdfGrid {
         let n = g.norm();
         (v, if n > 0.0 { g / n } else { Vec3::z() })
     }
+
+    /// The value of [`Self::eval`] alone, to the bit.
+    pub fn distance(&self, p: &Vec3) -> Real {
+        match self.locate(p) {
+            Ok((c, [fx, fy, fz])) => trilinear(&c, fx, fy, fz).6,
+            Err(outside) => self.margin + outside.norm(),
+        }
+    }
+}
+
+fn lerp(a: Real, b: Real, t: Real) -> Real {
+    a + (b - a) * t
+}
+
+/// Trilinear interpolation of a cell's corner values (order of [`SdfGrid::locate`]): the
+/// partial sums along x (x00, x10, x01, x11) and y (y0, y1), which the gradient reuses, and
+/// the value.
+#[inline]
+fn trilinear(c: &[Real; 8], fx: Real, fy: Real, fz: Real) -> (Real, Real, Real, Real, Real, Real, Real) {
+    let [c000, c100, c010, c110, c001, c101, c011, c111] = *c;
+    let x00 = lerp(c000, c100, fx);
+    let x10 = lerp(c010, c110, fx);
+    let x01 = lerp(c001, c101, fx);
+    let x11 = lerp(c011, c111, fx);
+    let y0 = lerp(x00, x10, fy);
+    let y1 = lerp(x01, x11, fy);
+    (x00, x10, x01, x11, y0, y1, lerp(y0, y1, fz))
 }
 
 /// `sd(q)` of physics.md §6.3 with its gradient in (radial, axial) components.
@@ -143,6 +175,39 @@ pub fn eval(shape: &ShapeDesc, p: &Vec3) -> (Real, Vec3) {
     }
 }
 
+/// The signed distance of [`eval`] without its gradient, to the bit: the narrow phase's culling
+/// and rim searches read only the value, and the gradient's divisions were a third of a
+/// cylinder pour's SDF time.
+pub fn distance(shape: &ShapeDesc, p: &Vec3) -> Real {
+    match shape {
+        ShapeDesc::Sphere { radius } => p.norm() - radius,
+        ShapeDesc::Cylinder { radius, half_height } => {
+            box2_distance(axial_distance(p.x, p.y) - radius, p.z.abs() - half_height)
+        }
+        ShapeDesc::HollowCylinder { inner_radius, outer_radius, half_height } => {
+            let rho = axial_distance(p.x, p.y);
+            let mid = 0.5 * (inner_radius + outer_radius);
+            let half_wall = 0.5 * (outer_radius - inner_radius);
+            box2_distance((rho - mid).abs() - half_wall, p.z.abs() - half_height)
+        }
+        ShapeDesc::Mesh { grid, .. } => grid.distance(p),
+    }
+}
+
+/// The value of [`sd_box2`] alone.
+fn box2_distance(qx: Real, qy: Real) -> Real {
+    if qx > 0.0 && qy > 0.0 {
+        axial_distance(qx, qy)
+    } else {
+        // The branch of sd_box2, not max: the same sign of a zero.
+        if qx >= qy {
+            qx
+        } else {
+            qy
+        }
+    }
+}
+
 /// The two faces (depth, outward normal) of a cylinder or ring that meet at the edge nearest to
 /// `p`, when `p` is inside or within `eps` of that edge: there the Euclidean SDF's choice (the
 /// shallower face, or the direction to the edge) is ambiguous or round-off noise, and the narrow
@@ -181,5 +246,47 @@ pub fn lipschitz(shape: &ShapeDesc) -> Real {
     match shape {
         ShapeDesc::Mesh { .. } => 3f64.sqrt(),
         _ => 1.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// `distance` is `eval`'s value to the bit, for every shape, at points inside, outside, on
+    /// the axis, on the mid-plane and off a grid's box.
+    #[test]
+    fn distance_is_the_value_of_eval_to_the_bit() {
+        let n = 9;
+        let cell = 2e-3;
+        let origin = Vec3::repeat(-0.5 * cell * (n - 1) as Real);
+        let sphere = |p: Vec3| (p.norm() - 5e-3) as f32;
+        let values = (0..n * n * n)
+            .map(|i| sphere(origin + cell * Vec3::new((i % n) as Real, ((i / n) % n) as Real, (i / (n * n)) as Real)))
+            .collect();
+        let grid = SdfGrid { origin, cell, dims: [n; 3], values, margin: 1e-3 };
+        let shapes = [
+            ShapeDesc::Sphere { radius: 5e-3 },
+            ShapeDesc::Cylinder { radius: 5e-3, half_height: 5e-3 },
+            ShapeDesc::HollowCylinder { inner_radius: 3e-3, outer_radius: 5e-3, half_height: 5e-3 },
+            ShapeDesc::Mesh { name: "grid sphere".into(), samples: Vec::new(), grid },
+        ];
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let mut points =
+            vec![Vec3::zeros(), Vec3::new(0.0, 0.0, 5e-3), Vec3::new(4e-3, 0.0, 0.0), Vec3::new(0.0, 0.0, -0.0)];
+        for _ in 0..20_000 {
+            points.push(Vec3::new(
+                rng.random_range(-0.012..0.012),
+                rng.random_range(-0.012..0.012),
+                rng.random_range(-0.012..0.012),
+            ));
+        }
+        for shape in &shapes {
+            for p in &points {
+                assert_eq!(distance(shape, p).to_bits(), eval(shape, p).0.to_bits(), "{shape:?} at {p:?}");
+            }
+        }
     }
 }
