@@ -196,15 +196,13 @@ pub fn distance(shape: &ShapeDesc, p: &Vec3) -> Real {
 
 /// The value of [`sd_box2`] alone.
 fn box2_distance(qx: Real, qy: Real) -> Real {
+    // The branches of sd_box2, not max: the same sign of a zero.
     if qx > 0.0 && qy > 0.0 {
         axial_distance(qx, qy)
+    } else if qx >= qy {
+        qx
     } else {
-        // The branch of sd_box2, not max: the same sign of a zero.
-        if qx >= qy {
-            qx
-        } else {
-            qy
-        }
+        qy
     }
 }
 
