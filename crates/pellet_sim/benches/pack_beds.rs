@@ -60,6 +60,7 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
             exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", 64.0) as usize,
             exact_fallback_max_rows: env("PELLET_BENCH_EXACT_FALLBACK", 0.0) as usize,
             solver_tolerance_factor: env("PELLET_BENCH_TOL", 1e-4),
+            coupled_friction_nncg: env("PELLET_BENCH_NNCG", 1.0) != 0.0,
             iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
                 Ok("pgs") => IterativeSolver::Pgs,
                 Ok("apgd") => IterativeSolver::Apgd,

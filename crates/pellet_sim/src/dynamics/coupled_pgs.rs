@@ -12,6 +12,7 @@
 
 use super::friction_update::{add_friction_response, static_step, Friction, FrictionEntry};
 use super::lcp::{LcpReport, LcpStatus};
+use super::polish_momentum::Momentum;
 use super::rows::{load_pair, store_pair, RowSystem};
 use crate::math::Real;
 
@@ -27,6 +28,9 @@ pub struct CoupledProblem<'a> {
     pub free_t: &'a [(Real, Real)],
     /// Substep, s.
     pub dt: Real,
+    /// A nonsmooth conjugate-gradient step after each forward–backward pair of sweeps
+    /// (`polish_momentum`).
+    pub accelerate: bool,
 }
 
 impl CoupledProblem<'_> {
@@ -56,6 +60,7 @@ impl CoupledProblem<'_> {
         // starts from, so that iterate is saved before the sweep.
         let mut best: (Real, Real, Vec<Real>, Vec<(Real, Real)>) = (Real::INFINITY, 0.0, Vec::new(), Vec::new());
         let (mut start_f, mut start_gt) = (f.to_vec(), gt.to_vec());
+        let mut momentum = self.accelerate.then(|| Momentum::new(n, fric.len(), acc.len()));
         while sweeps < max_sweeps && worst > tol {
             if sweeps > 0 && worst.is_finite() && worst < best.0 {
                 best = (worst, min_a, std::mem::take(&mut start_f), std::mem::take(&mut start_gt));
@@ -68,6 +73,9 @@ impl CoupledProblem<'_> {
             start_gt.extend_from_slice(gt);
             sweeps += 1;
             (worst, min_a) = (0.0, 0.0);
+            if let Some(m) = momentum.as_mut().filter(|_| sweeps % 2 == 1) {
+                m.start(f, gt, &acc);
+            }
             for k in 0..n {
                 let i = if sweeps % 2 == 1 { k } else { n - 1 - k };
                 let row = &sys.rows[i];
@@ -88,6 +96,11 @@ impl CoupledProblem<'_> {
                         f[i] = new;
                     }
                 }
+            }
+            // After a backward sweep (the pair's end), unless the pair's start was converged:
+            // the iterate then is the sweep's answer, as without the step.
+            if let Some(m) = momentum.as_mut().filter(|_| sweeps % 2 == 0 && worst > tol) {
+                m.step(sys, fric, f, gt, &mut acc);
             }
         }
         if worst <= tol {
@@ -183,7 +196,7 @@ mod tests {
         // Gravity in the plane's frame: −g cos θ along n, −g sin θ along t1.
         let b0 = [-G * angle.cos()];
         let free_t = [(-G * angle.sin(), 0.0)];
-        let problem = CoupledProblem { sys: &sys, b0: &b0, fric: &fric, free_t: &free_t, dt: 1e-3 };
+        let problem = CoupledProblem { sys: &sys, b0: &b0, fric: &fric, free_t: &free_t, dt: 1e-3, accelerate: false };
         let (mut f, mut gt) = (vec![0.0], vec![(0.0, 0.0)]);
         let rep = problem.solve(&mut f, &mut gt, 1e-9, 100);
         (f[0], gt[0], rep)
@@ -216,7 +229,7 @@ mod tests {
         let sys = RowSystem::new(rows, 2);
         // Free normal accelerations: between the bodies 0, at the floor −g.
         let b0 = [0.0, -G];
-        let problem = CoupledProblem { sys: &sys, b0: &b0, fric: &[], free_t: &[], dt: 1e-3 };
+        let problem = CoupledProblem { sys: &sys, b0: &b0, fric: &[], free_t: &[], dt: 1e-3, accelerate: false };
         let mut f = vec![0.0, 0.0];
         let rep = problem.solve(&mut f, &mut [], 1e-9, 200);
         assert_eq!(rep.status, LcpStatus::Converged, "{rep:?}");

@@ -147,7 +147,7 @@ pub fn static_step(
 
 /// (n1, n2) projected onto the disc of radius `cap` by scaling: n · cap / |n| outside it.
 #[inline]
-fn onto_disc(mut n1: Real, mut n2: Real, cap: Real) -> (Real, Real) {
+pub(crate) fn onto_disc(mut n1: Real, mut n2: Real, cap: Real) -> (Real, Real) {
     let squared = n1 * n1 + n2 * n2;
     // Well inside the disc the projection is the identity, and the square root and division
     // (most of a jammed pile's polish, `coupled_pgs`, where they sit on the sweep's dependency

@@ -9,6 +9,7 @@ pub mod integrator;
 pub mod island_solve;
 pub mod islands;
 pub mod lcp;
+pub mod polish_momentum;
 pub mod resting;
 pub mod rows;
 pub mod stabilize;
