@@ -313,8 +313,8 @@ impl IslandProblem<'_> {
         // bed anyway (measured: NOTES, 2026-11-24 second session).
         let all_static = !fric.is_empty() && fric.iter().all(|x| x.kind == Friction::Static);
         if !exact && all_static && change > friction_tol && p.coupled_friction_sweeps > 0 {
-            let accelerate = p.coupled_friction_nncg;
-            let problem = CoupledProblem { sys, b0: self.b0, fric, free_t: self.free_t, dt, accelerate };
+            let problem =
+                CoupledProblem { sys, b0: self.b0, fric, free_t: self.free_t, dt, accelerate: p.coupled_friction_nncg };
             let rep = problem.solve(&mut sol.f, &mut sol.gt, tol, p.coupled_friction_sweeps);
             sol.iterations += rep.iterations;
             sol.report = Some(rep);

@@ -24,7 +24,7 @@ use super::friction_update::{onto_disc, Friction, FrictionEntry};
 use super::rows::RowSystem;
 use crate::math::Real;
 
-/// The search direction and the previous sweep's squared change.
+/// The search direction and the previous pair's squared change.
 pub struct Momentum {
     /// Direction of the normal multipliers.
     pf: Vec<Real>,
@@ -36,7 +36,7 @@ pub struct Momentum {
     start_f: Vec<Real>,
     start_gt: Vec<(Real, Real)>,
     start_acc: Vec<Real>,
-    /// |r|² of the previous sweep (0 before the first).
+    /// |r|² of the previous pair of sweeps (0 before the first).
     rr_prev: Real,
 }
 
@@ -61,7 +61,7 @@ impl Momentum {
         self.start_acc.copy_from_slice(acc);
     }
 
-    /// After a sweep from (`start_f`, `start_gt`) to (`f`, `gt`): the conjugate step on the
+    /// After a pair of sweeps from (`start_f`, `start_gt`) to (`f`, `gt`): the conjugate step on the
     /// multipliers and on `acc`, then the projection (which updates `acc` by the rows it
     /// clips). Only static entries of `fric` move; dynamic ones and rows without a diagonal
     /// never change in a sweep, so their direction stays zero.
