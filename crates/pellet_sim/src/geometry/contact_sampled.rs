@@ -6,6 +6,7 @@
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
 use super::narrow_phase::Pellet;
+use super::patch::{patches, reduce, Hit, NEAR_BAND, WEDGE_COS};
 use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
 use super::samples::{cone_alignment, rim_point};
 use super::sdf::{distance, edge_cone, edge_faces, eval, lipschitz};
@@ -17,22 +18,9 @@ use std::f64::consts::TAU;
 const SIDE_B: u32 = 1 << 31;
 /// Feature bit: a rim sample refined to the local minimum along its rim.
 const REFINED: u32 = 1 << 30;
-/// Normals closer than this (cosine, ~1.1°) share a patch and its one normal (physics.md §6.4).
-/// physics.md suggests 0.98 (11.5°), grouping by proximity as well; we group by normal only.
-/// With 0.98, hits up to 11.5° apart (along a curved surface, or at separate places) made one
-/// patch reduced to ≤ 4 points, and the touching points the reduction dropped sank while the
-/// pellets slid; each was the deepest, so kept, in the next substep, and position projection
-/// lifted it. The paper's narrowest cylinder bed (D = 33.65 mm) crept at ~4 mm/s for ever.
-/// Measured on that bed restarted at rest (`tests/bed_rest.rs` in pellet_pack): 0.98 and 0.995
-/// creep, 0.999 rattles (fastest pellet ~2 mm/s), 0.9998 comes to rest within 0.05 s; 0.98 with
-/// each kept point on its own normal creeps as before (so it is the dropped points, not the
-/// shared normal). Flat faces give normals equal to round-off: their patches are unchanged.
-const PATCH_COS: Real = 0.9998;
 /// How much deeper (× the other body's bounding radius) the alternative face of an edge may be
 /// when the SDF's own face is one that the sample's surface does not allow (`MIN_ALIGN`).
 const FACE_SWITCH: Real = 0.02;
-/// An edge hit joins a patch if its normal is within ~2.6° of both bodies' normal cones.
-const WEDGE_COS: Real = 0.999;
 /// Distance (× R_b) from an edge of the other body within which a rim sample takes the edge–edge
 /// normal (`OneWay::edge_edge`); contacts at rest sit 1e-6–1e-5 m deep, R_b ≈ 7 mm for the
 /// paper's pellets, so the band is ~70 µm.
@@ -48,34 +36,8 @@ const EDGE_EPS: Real = 1e-9;
 /// at every stacked interface were the trigger of the 5-stack blow-up (NOTES.md, problem 1).
 /// Round-off made the old `> 0` test pass them (alignment ~1e-7).
 const MIN_ALIGN: Real = 0.1;
-/// Points within this many bounding radii of a patch's smallest gap count as touching when the
-/// patch is reduced (2e-3 R_b = δ_c for the default contact distance 1e-3 d, d = 2 R_b).
-pub(crate) const NEAR_BAND: Real = 2e-3;
-/// A touching point is preferred in the reduction if it adds at least this fraction of the
-/// patch's extent (distance, or triangle height).
-const SPREAD: Real = 0.05;
 /// Golden-section iterations of the rim refinement (interval × 0.618²⁴ ≈ 1e-5).
 const GOLDEN_ITERS: usize = 24;
-
-/// One candidate contact point before patching.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Hit {
-    /// A's surface point, world.
-    pub pa: Vec3,
-    /// B's surface point, world.
-    pub pb: Vec3,
-    /// Unit normal B → A.
-    pub normal: Vec3,
-    /// Signed gap, m.
-    pub gap: Real,
-    /// Feature id (persistent key).
-    pub feature: u32,
-    /// Body whose SDF gave the normal.
-    pub owner: NormalOwner,
-    /// For an edge contact (the closest feature of the SDF's body is an edge): the cones of
-    /// normals (B → A) that the two bodies' surfaces allow there, (SDF body's, sample body's).
-    pub wedge: Option<[(Vec3, Vec3); 2]>,
-}
 
 fn rotation(p: &Pellet<'_>) -> Mat3 {
     *p.body.orientation.to_rotation_matrix().matrix()
@@ -436,149 +398,4 @@ pub fn sphere_shape(s: Pellet<'_>, r: Real, o: Pellet<'_>, sphere_is_a: bool, ma
         (o, s, h)
     };
     Some(contact(&a, &b, &h, h.normal, h.owner))
-}
-
-/// Groups hits by normal (cos > `PATCH_COS`), deepest first; each patch's first hit is its deepest
-/// face hit. Face hits are grouped first; an edge hit then joins a patch whose normal both
-/// bodies' normal cones allow at that point (two nearly coinciding rims: the cap patch), with
-/// its gap measured along the patch normal, else it starts its own patch.
-/// Sorts `hits` by (edge, gap rounded to 1e-12 m, feature) so the result is deterministic and
-/// does not flip on round-off: two equal stacked rims give A's and B's samples at the same
-/// place with gaps differing by ~1e-16 m, and an exact-gap order swapped the patch's point (a
-/// new key, no warm start) from one substep to the next; in recommended mode that kicked a
-/// 5-stack to |v| 1.2e-4 m/s (1.3e-6 with the rounding, NOTES.md problem 1).
-///
-/// The keys are computed once and sorted with the hits' indices as the last key (the order of
-/// a stable sort, bit for bit), then the hits are moved once: sorting the ~200-byte hits with
-/// the key in the comparison was 4 % of a cylinder bed's time (the rounding and the copies).
-pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
-    let mut keys: Vec<(bool, i64, u32, u32)> = hits
-        .iter()
-        .enumerate()
-        .map(|(i, h)| (h.wedge.is_some(), (h.gap / 1e-12).round() as i64, h.feature, i as u32))
-        .collect();
-    keys.sort_unstable();
-    if keys.iter().enumerate().any(|(k, key)| key.3 as usize != k) {
-        *hits = keys.iter().map(|key| hits[key.3 as usize]).collect();
-    }
-    // Each hit's patch first, the patches' member lists after (each allocated once, members in
-    // increasing index as before): growing a list per patch hit by hit was 2.6 % of a
-    // cylinder bed.
-    let mut heads: Vec<usize> = Vec::with_capacity(4);
-    let mut patch_of: Vec<usize> = Vec::with_capacity(hits.len());
-    for i in 0..hits.len() {
-        let h = hits[i];
-        let fits = |n: &Vec3| match &h.wedge {
-            Some([c1, c2]) => cone_alignment(n, c1) > WEDGE_COS && cone_alignment(n, c2) > WEDGE_COS,
-            None => false,
-        };
-        let found = heads.iter().position(|&head| {
-            let n = hits[head].normal;
-            n.dot(&h.normal) > PATCH_COS || fits(&n)
-        });
-        match found {
-            Some(k) => {
-                let n = hits[heads[k]].normal;
-                if h.wedge.is_some() {
-                    hits[i].gap = n.dot(&(h.pa - h.pb));
-                }
-                patch_of.push(k);
-            }
-            None => {
-                patch_of.push(heads.len());
-                heads.push(i);
-            }
-        }
-    }
-    let mut sizes = vec![0usize; heads.len()];
-    patch_of.iter().for_each(|&k| sizes[k] += 1);
-    let mut out: Vec<Vec<usize>> = sizes.iter().map(|&n| Vec::with_capacity(n)).collect();
-    for (i, &k) in patch_of.iter().enumerate() {
-        out[k].push(i);
-    }
-    out
-}
-
-/// Reduces a patch to ≤ 4 points (physics.md §6.4): the deepest, the farthest from it, the one
-/// making the largest triangle, and the one adding the most area outside that triangle.
-///
-/// Each pick is made first among the points within `band` of the patch's smallest gap (the ones
-/// touching now), and among all points only when those add less than `SPREAD` of the patch's
-/// extent. Why: the patch holds every hit up to the look-ahead gap δ_c + v_max δt (~1.6e-4 m in
-/// a pour), and picking by area alone kept rim samples 1.1–1.4e-4 m away while dropping the
-/// refined rim point 3.5e-7 m away that was the patch's second real contact; the pellet then
-/// rotated about the one kept contact and that rim point sank 8.3e-5 m within one substep
-/// (t23, NOTES.md problem 2). A flat patch has all its points in the band: unchanged.
-pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real) -> Reduced {
-    if patch.len() <= 4 {
-        return Reduced::of(patch);
-    }
-    let p = |k: usize| hits[patch[k]].pa;
-    let g_min = patch.iter().map(|&k| hits[k].gap).fold(Real::INFINITY, Real::min);
-    let near = |k: usize| hits[patch[k]].gap <= g_min + band;
-    let best = |f: &dyn Fn(usize) -> Real, pick: &dyn Fn(usize) -> bool| {
-        (0..patch.len()).filter(|&k| pick(k)).fold((0, Real::NEG_INFINITY), |best, k| {
-            if f(k) > best.1 {
-                (k, f(k))
-            } else {
-                best
-            }
-        })
-    };
-    // The best near point if it adds at least `floor`, else the best of all points.
-    let argmax = |f: &dyn Fn(usize) -> Real, floor: Real| {
-        let b = best(f, &near);
-        if b.1 > floor {
-            b
-        } else {
-            best(f, &|_| true)
-        }
-    };
-    let i0 = 0;
-    let extent = best(&|k| (p(k) - p(i0)).norm(), &|_| true).1;
-    let (i1, d1) = argmax(&|k| (p(k) - p(i0)).norm_squared(), (SPREAD * extent).powi(2));
-    if d1 <= 0.0 {
-        return Reduced::of(&[patch[i0]]);
-    }
-    let area = |u: usize, v: usize, q: usize| n.dot(&(p(v) - p(u)).cross(&(p(q) - p(u))));
-    let floor = SPREAD * extent * d1.sqrt();
-    let (i2, a2) = argmax(&|k| area(i0, i1, k).abs(), floor);
-    if a2 <= 0.0 {
-        return Reduced::of(&[patch[i0], patch[i1]]);
-    }
-    let sigma = area(i0, i1, i2).signum();
-    // Area outside each edge of the triangle (positive on the side away from the triangle).
-    let outside = |k: usize| {
-        [(i0, i1), (i1, i2), (i2, i0)].iter().map(|&(u, v)| -sigma * area(u, v, k)).fold(Real::NEG_INFINITY, Real::max)
-    };
-    let (i3, a3) = argmax(&outside, floor);
-    if a3 > 0.0 {
-        Reduced::of(&[patch[i0], patch[i1], patch[i2], patch[i3]])
-    } else {
-        Reduced::of(&[patch[i0], patch[i1], patch[i2]])
-    }
-}
-
-/// The ≤ 4 hit indices [`reduce`] keeps, in its order, without a heap allocation: a vector per
-/// patch (and its growth from 3 to 4) was most of the allocations under `sampled_pair`.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Reduced {
-    kept: [usize; 4],
-    len: usize,
-}
-
-impl Reduced {
-    fn of(kept: &[usize]) -> Self {
-        let mut out = Self { kept: [0; 4], len: kept.len() };
-        out.kept[..kept.len()].copy_from_slice(kept);
-        out
-    }
-}
-
-impl IntoIterator for Reduced {
-    type Item = usize;
-    type IntoIter = std::iter::Take<std::array::IntoIter<usize, 4>>;
-    fn into_iter(self) -> Self::IntoIter {
-        self.kept.into_iter().take(self.len)
-    }
 }

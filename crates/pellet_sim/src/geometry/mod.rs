@@ -8,6 +8,7 @@ pub mod contact_sphere_sphere;
 pub mod contact_sphere_wall;
 pub mod narrow_phase;
 pub mod pair_cache;
+pub mod patch;
 pub mod sample_cache;
 pub mod samples;
 pub mod sdf;
