@@ -9,6 +9,7 @@ pub mod integrator;
 pub mod island_solve;
 pub mod islands;
 pub mod lcp;
+mod linear_product;
 pub mod polish_momentum;
 pub mod resting;
 pub mod rows;

@@ -2,6 +2,7 @@
 //! A = J M⁻¹ Jᵀ over an island (physics.md §4.1). J is never formed as a matrix.
 
 use super::lcp::LcpMatrix;
+use super::linear_product::LinearProduct;
 use crate::body::Body;
 use crate::geometry::contact::Contact;
 use crate::math::{Mat3, Real, Vec3};
@@ -74,6 +75,17 @@ impl Row {
             None => (Vec3::zeros(), Vec3::zeros()),
         };
         Self { a, b, dir: *dir, ang_a, ang_b, w: [wa_l, wa_a, wb_l, wb_a], diag, inv_diag: 1.0 / diag, linear }
+    }
+
+    /// Whether the row's torques are zero (a normal through both centres).
+    pub fn is_linear(&self) -> bool {
+        self.linear
+    }
+
+    /// The linear M⁻¹Jᵀ blocks of A and of B (B's sign applied; zero for a static B).
+    pub fn linear_blocks(&self) -> ([Real; 3], [Real; 3]) {
+        let (a, b) = (&self.w[0], &self.w[2]);
+        ([a.x, a.y, a.z], [b.x, b.y, b.z])
     }
 
     /// J_i · u for stacked body velocities `u` (6 per body: linear, angular).
@@ -195,19 +207,6 @@ pub fn store_pair(u: &mut [Real], a: usize, b: Option<usize>, ua: &[Real; 6], ub
     }
 }
 
-/// A row through both centres in the compact form [`LcpMatrix::mul`] uses: the numbers of
-/// [`Row`]'s linear path and nothing else (88 bytes instead of 208), over 3 velocity entries
-/// per body instead of 6.
-#[derive(Debug, Clone, Copy)]
-struct LinearRow {
-    a: usize,
-    /// `usize::MAX` for a static B.
-    b: usize,
-    dir: [Real; 3],
-    wa: [Real; 3],
-    wb: [Real; 3],
-}
-
 /// The operator A = J M⁻¹ Jᵀ of a set of rows over `n_bodies` local bodies.
 #[derive(Debug, Clone, Default)]
 pub struct RowSystem {
@@ -217,7 +216,7 @@ pub struct RowSystem {
     pub n_bodies: usize,
     /// The rows in compact form when every row is linear (the normal rows of a sphere island):
     /// products over them do the same arithmetic on half the memory.
-    linear: Option<Vec<LinearRow>>,
+    linear: Option<LinearProduct>,
     /// The body-space vector of [`LcpMatrix::mul`], kept between products: allocating it
     /// per product (malloc, memset, free) was 4 % of a one-column pour (perf).
     scratch: RefCell<Vec<Real>>,
@@ -226,48 +225,8 @@ pub struct RowSystem {
 impl RowSystem {
     /// The system of `rows` over `n_bodies` local bodies.
     pub fn new(rows: Vec<Row>, n_bodies: usize) -> Self {
-        let linear = rows.iter().all(|r| r.linear).then(|| {
-            rows.iter()
-                .map(|r| LinearRow {
-                    a: r.a,
-                    b: r.b.unwrap_or(usize::MAX),
-                    dir: [r.dir.x, r.dir.y, r.dir.z],
-                    wa: [r.w[0].x, r.w[0].y, r.w[0].z],
-                    wb: [r.w[2].x, r.w[2].y, r.w[2].z],
-                })
-                .collect()
-        });
+        let linear = LinearProduct::new(&rows, n_bodies);
         Self { rows, n_bodies, linear, scratch: RefCell::default() }
-    }
-
-    /// [`LcpMatrix::mul`] over the compact linear rows: `Row::add_response` and `Row::dot`'s
-    /// linear path, operation for operation (so the same bits), with 3 entries per body.
-    fn mul_linear(&self, rows: &[LinearRow], x: &[Real], y: &mut [Real]) {
-        let mut u = self.scratch.borrow_mut();
-        u.clear();
-        u.resize(3 * self.n_bodies, 0.0);
-        for (row, &s) in rows.iter().zip(x) {
-            if s != 0.0 {
-                for (vc, wc) in u[3 * row.a..3 * row.a + 3].iter_mut().zip(&row.wa) {
-                    *vc += s * wc;
-                }
-                if row.b != usize::MAX {
-                    for (vc, wc) in u[3 * row.b..3 * row.b + 3].iter_mut().zip(&row.wb) {
-                        *vc += s * wc;
-                    }
-                }
-            }
-        }
-        for (yi, row) in y.iter_mut().zip(rows) {
-            let l = &row.dir;
-            let v = &u[3 * row.a..3 * row.a + 3];
-            let mut s = l[0] * v[0] + l[1] * v[1] + l[2] * v[2];
-            if row.b != usize::MAX {
-                let v = &u[3 * row.b..3 * row.b + 3];
-                s -= l[0] * v[0] + l[1] * v[1] + l[2] * v[2];
-            }
-            *yi = s;
-        }
     }
 
     /// Stacked body velocity change M⁻¹ Jᵀ f (6 per body).
@@ -297,8 +256,8 @@ impl LcpMatrix for RowSystem {
         self.rows[i].diag
     }
     fn mul(&self, x: &[Real], y: &mut [Real]) {
-        if let Some(rows) = &self.linear {
-            return self.mul_linear(rows, x, y);
+        if let Some(linear) = &self.linear {
+            return linear.mul(x, y, &mut self.scratch.borrow_mut());
         }
         let mut u = self.scratch.borrow_mut();
         self.response_into(x, &mut u);
