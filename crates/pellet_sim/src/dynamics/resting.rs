@@ -10,7 +10,7 @@ use super::islands::build_islands;
 use super::lcp::LcpStatus;
 use super::rows::{relative_velocity_from, Row};
 use crate::body::Body;
-use crate::geometry::contact::{Contact, ContactKey, GapKinematics, NormalOwner};
+use crate::geometry::contact::{Contact, GapKinematics, NormalOwner};
 use crate::math::{Real, Vec3};
 use crate::params::EngineParams;
 
@@ -133,9 +133,9 @@ fn free_contact_accel(c: &Contact, rates: &[BodyRates], g: &Vec3) -> Vec3 {
 
 /// Runs the resting phase over contacts with |v_rel| ≤ εp whose gap is, or would become within
 /// `dt`, at most δ_c (the same look-ahead as the collision phase, so that a body arriving inside
-/// the resting band is not first accelerated out of it by a substep of free fall). `warm(key)`
-/// gives the previous substep's normal force and friction force on A of a contact (the solver's
-/// warm start).
+/// the resting band is not first accelerated out of it by a substep of free fall). `warm[i]` is
+/// contact i's normal force and friction force on A in the previous substep, by its key (the
+/// solver's warm start).
 pub fn resting_phase(
     bodies: &[Body],
     contacts: &[Contact],
@@ -143,7 +143,7 @@ pub fn resting_phase(
     params: &EngineParams,
     dt: Real,
     delta_c: Real,
-    warm: &dyn Fn(&ContactKey) -> (Real, Vec3),
+    warm: &[(Real, Vec3)],
 ) -> (RestingForces, RestingStats) {
     let g = params.gravity;
     let rates: Vec<BodyRates> = bodies.iter().map(BodyRates::of).collect();
@@ -221,7 +221,7 @@ pub fn resting_phase(
                 (x.t1.dir.dot(&acc), x.t2.dir.dot(&acc))
             })
             .collect();
-        let warm_forces: Vec<(Real, Vec3)> = island.contacts.iter().map(|&ci| warm(&contacts[ci].key)).collect();
+        let warm_forces: Vec<(Real, Vec3)> = island.contacts.iter().map(|&ci| warm[ci]).collect();
         let f0: Vec<Real> = warm_forces.iter().map(|w| w.0).collect();
         let g0 = warm_static_friction(&fric, &warm_forces, sys.rows.len() > params.exact_solver_max_rows);
         let problem = IslandProblem { sys: &sys, b0: &b0, fric: &fric, free_t: &free_t, g0: &g0, params, dt };
