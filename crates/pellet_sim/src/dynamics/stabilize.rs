@@ -73,8 +73,14 @@ pub fn project_positions(
     let drift = bodies.iter().zip(generated_at).enumerate().map(|(k, (now, then))| {
         (now.position - then.position).norm() + bounds.lever[k] * turn_angle(&now.orientation, &then.orientation)
     });
-    let mut cache =
-        ContactCache { eval, contacts, bounds, drift: drift.collect(), entries: vec![None; contacts.len()] };
+    let mut cache = ContactCache {
+        eval,
+        contacts,
+        bounds,
+        drift: drift.collect(),
+        slot: vec![NO_ENTRY; contacts.len()],
+        entries: Vec::new(),
+    };
     st.max_penetration_before = cache.max_penetration(bodies, &moves);
     if st.max_penetration_before <= slop {
         st.max_penetration_after = st.max_penetration_before;
@@ -87,14 +93,26 @@ pub fn project_positions(
     let mut keyed: Vec<(Real, usize)> = contacts.iter().enumerate().map(|(i, c)| (c.point.z, i)).collect();
     keyed.sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
     let order: Vec<usize> = keyed.into_iter().map(|(_, i)| i).collect();
+    // Per contact, its bodies' correction counts when a sweep last found it needing none: until
+    // one of them moves, it needs none again (the cache would give the same answer), so the
+    // sweep passes it by without asking. A projection takes 15 sweeps over ~2000 contacts on
+    // average in a 690-sphere bed, most of them about nothing.
+    let mut quiet: Vec<(u32, u32)> = vec![(u32::MAX, u32::MAX); contacts.len()];
     for _ in 0..SWEEPS {
         let mut any = false;
         for &i in &order {
+            let stamp = (moves[contacts[i].a], contacts[i].b_body().map_or(0, |b| moves[b]));
+            if quiet[i] == stamp {
+                continue;
+            }
             // The cached evaluation is the contact at the current poses (its bodies have not
             // moved since), so it is not evaluated a second time for the correction.
             let c = match cache.contact(bodies, &moves, i) {
                 Some(c) if c.gap < -slop => c.clone(),
-                _ => continue,
+                _ => {
+                    quiet[i] = stamp;
+                    continue;
+                }
             };
             any = true;
             let b = c.b_body();
@@ -152,8 +170,14 @@ struct ContactCache<'a, 'e> {
     contacts: &'a [Contact],
     bounds: &'a GapBounds,
     drift: Vec<Real>,
-    entries: Vec<Option<CachedContact>>,
+    /// Per contact, its entry in `entries`, or `NO_ENTRY`: only the contacts evaluated again get
+    /// one (an entry per contact, mostly empty, was a ~0.4 MB fill per projection).
+    slot: Vec<u32>,
+    entries: Vec<CachedContact>,
 }
+
+/// A contact without an entry in `ContactCache::entries`.
+const NO_ENTRY: u32 = u32::MAX;
 
 /// A re-evaluated contact, the correction counts of its two bodies and their drifts when it
 /// was evaluated.
@@ -177,16 +201,23 @@ impl ContactCache<'_, '_> {
         let stays_open = |gap: Real, d0: (Real, Real)| {
             gap - (self.bounds.lipschitz * ((drift.0 - d0.0) + (drift.1 - d0.1)) + jump()) > 0.0
         };
-        let fresh = match &self.entries[i] {
+        let slot = self.slot[i];
+        let fresh = match self.entries.get(slot as usize) {
             None if stays_open(c.gap, (0.0, 0.0)) => return None,
             Some(e) if e.stamp == stamp => true,
             Some(CachedContact { drift: d0, contact: Some(old), .. }) if stays_open(old.gap, *d0) => return None,
             _ => false,
         };
         if !fresh {
-            self.entries[i] = Some(CachedContact { stamp, drift, contact: (self.eval)(bodies, c) });
+            let entry = CachedContact { stamp, drift, contact: (self.eval)(bodies, c) };
+            if slot == NO_ENTRY {
+                self.slot[i] = self.entries.len() as u32;
+                self.entries.push(entry);
+            } else {
+                self.entries[slot as usize] = entry;
+            }
         }
-        self.entries[i].as_ref().and_then(|e| e.contact.as_ref())
+        self.entries[self.slot[i] as usize].contact.as_ref()
     }
 
     fn max_penetration(&mut self, bodies: &[Body], moves: &[u32]) -> Real {
