@@ -203,8 +203,7 @@ pub fn resting_phase(
                 (a - c.normal * c.normal.dot(&a)).normalize()
             };
             let t2 = c.normal.cross(&t1);
-            let la = island.local(c.a);
-            let lb = c.b_body().map(|b| island.local(b));
+            let (la, lb) = island.ends[k];
             fric.push(FrictionEntry {
                 contact: k,
                 kind,
