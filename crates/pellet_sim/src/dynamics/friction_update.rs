@@ -2,6 +2,7 @@
 //! dynamic friction −μ f along the slip at contacts slipping faster than εf, and static
 //! friction (a switch) by Gauss–Seidel on the tangential rows of the others.
 
+use super::friction_scatter::FrictionScatter;
 use super::rows::{Row, RowSystem};
 use crate::math::Real;
 use crate::params::{EngineParams, FrictionClamp};
@@ -78,20 +79,21 @@ pub fn update_dynamic(
 
 /// Static contacts: Gauss–Seidel on the tangential rows, target tangential velocity zero at the
 /// end of the substep, each force inside the disc |g| ≤ μ f. `free_t` is the free tangential
-/// acceleration of each entry along t1 and t2.
-pub fn update_static(
+/// acceleration of each entry along t1 and t2; `scatter` is `fric`'s `FrictionScatter`.
+pub(crate) fn update_static(
     fric: &[FrictionEntry],
     free_t: &[(Real, Real)],
     sys: &RowSystem,
     f: &[Real],
     gt: &mut [(Real, Real)],
     dt: Real,
+    scatter: &FrictionScatter,
 ) {
     if !fric.iter().any(|x| x.kind == Friction::Static) {
         return;
     }
     let mut acc = sys.response(f);
-    add_friction_response(fric, gt, &mut acc);
+    scatter.add(gt, &mut acc);
     // The accumulator as one array per body, read and written whole: a contact often shares a
     // body with the one before it, and reading that body's entries back in other widths than
     // they were stored in (a slice copy) defeated the CPU's store-to-load forwarding, which

@@ -4,7 +4,8 @@
 
 use super::coupled_pgs::CoupledProblem;
 use super::friction_guard::{drop_energy_gaining, FrictionRow};
-use super::friction_update::{add_friction_response, update_dynamic, update_static, Friction, FrictionEntry};
+use super::friction_scatter::FrictionScatter;
+use super::friction_update::{update_dynamic, update_static, Friction, FrictionEntry};
 use super::lcp::{solve_auto, DenseLcp, LcpMatrix, LcpReport, LcpStatus};
 use super::rows::RowSystem;
 use crate::math::Real;
@@ -161,14 +162,15 @@ impl IslandProblem<'_> {
         };
         // Normal accelerations caused by friction multipliers `gt`: b0 + J M⁻¹ Jₜᵀ g (from the
         // entries' own rows: a RowSystem of them copied ~200 bytes per row per solve).
+        let scatter = FrictionScatter::new(fric, sys.n_bodies);
         let coupled_rhs = |gt: &[(Real, Real)]| -> Vec<Real> {
             let mut u = vec![0.0; 6 * sys.n_bodies];
-            add_friction_response(fric, gt, &mut u);
+            scatter.add(gt, &mut u);
             self.b0.iter().zip(&sys.rows).map(|(b, r)| b + r.dot(&u)).collect()
         };
         let update = |f: &[Real], gt: &mut [(Real, Real)], clamped: &mut [Option<bool>]| {
             update_dynamic(fric, f, gt, clamped, p, dt);
-            update_static(fric, self.free_t, sys, f, gt, dt);
+            update_static(fric, self.free_t, sys, f, gt, dt, &scatter);
         };
         // Small islands go to Baraff, which works on the dense matrix: form it once per island.
         let dense = exact.then(|| DenseLcp(sys.dense()));

@@ -4,6 +4,7 @@
 pub mod collide;
 pub mod coupled_pgs;
 pub mod friction_guard;
+mod friction_scatter;
 pub mod friction_update;
 pub mod integrator;
 pub mod island_solve;

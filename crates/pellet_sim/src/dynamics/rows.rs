@@ -82,6 +82,12 @@ impl Row {
         self.linear
     }
 
+    /// The M⁻¹Jᵀ blocks: A's linear and angular, then B's (B's sign applied; zero for a static
+    /// B).
+    pub fn response_blocks(&self) -> &[Vec3; 4] {
+        &self.w
+    }
+
     /// The linear M⁻¹Jᵀ blocks of A and of B (B's sign applied; zero for a static B).
     pub fn linear_blocks(&self) -> ([Real; 3], [Real; 3]) {
         let (a, b) = (&self.w[0], &self.w[2]);
