@@ -325,38 +325,6 @@ pub fn collision_matrix(c: &Contact, bodies: &[Body]) -> Mat3 {
 mod tests {
     use super::*;
 
-    /// A system of rows through the centres (spheres on spheres and on a wall) takes the compact
-    /// product, and it gives the bits of the rows' own response and dot products.
-    #[test]
-    fn the_compact_product_of_linear_rows_equals_the_rows_own() {
-        let masses: Vec<BodyMass> = (0..3)
-            .map(|k| BodyMass { inv_mass: 1.0 + k as Real, inv_inertia: Mat3::from_diagonal_element(7.0) })
-            .collect();
-        let dirs = [Vec3::new(0.3, -0.7, 0.2), Vec3::new(-0.1, 0.2, 0.9), Vec3::new(0.6, 0.5, -0.4)];
-        let rows: Vec<Row> = [(0, Some(1)), (1, Some(2)), (2, None)]
-            .iter()
-            .zip(&dirs)
-            .map(|(&(a, b), d)| {
-                let n = d.normalize();
-                Row::new(a, b, &(-n * 0.005), &(n * 0.005), &n, &masses)
-            })
-            .collect();
-        let sys = RowSystem::new(rows.clone(), 3);
-        assert!(sys.linear.is_some());
-        let x = [0.37, 0.0, -1.3];
-        let mut y = [0.0; 3];
-        sys.mul(&x, &mut y);
-        let mut u = vec![0.0; 18];
-        for (r, &xi) in rows.iter().zip(&x) {
-            if xi != 0.0 {
-                r.add_response(xi, &mut u);
-            }
-        }
-        for (r, yi) in rows.iter().zip(&y) {
-            assert_eq!(r.dot(&u).to_bits(), yi.to_bits());
-        }
-    }
-
     /// The products over two bodies' entries held apart give the bits of the products over the
     /// stacked vector, for rows with and without torques, with a dynamic and a static B.
     #[test]
