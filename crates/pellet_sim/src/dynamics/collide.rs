@@ -2,6 +2,7 @@
 //! over the contacts colliding at that moment, Coulomb friction per point with the stick or
 //! zero clamp, and a final e = 0 solve when the pass cap is reached.
 
+use super::by_body::ByBody;
 use super::islands::build_islands;
 use super::lcp::solve_auto;
 use super::rows::{collision_matrix, relative_velocity, relative_velocity_from};
@@ -104,11 +105,18 @@ pub fn collision_phase(
     // passes over a few colliding contacts among thousands.
     let mut u: Vec<Vec3> = contacts.iter().map(|c| relative_velocity_from(c, &vel, &omega)).collect();
     let mut vn: Vec<Real> = contacts.iter().zip(&u).map(|(c, u)| c.normal.dot(u)).collect();
-    let mut contacts_of: Option<BodyContacts> = None;
+    let mut contacts_of: Option<ByBody<u32>> = None;
     let mut changed: Vec<usize> = Vec::new();
     loop {
         if !changed.is_empty() {
-            let by_body = contacts_of.get_or_insert_with(|| BodyContacts::new(contacts, bodies.len()));
+            let by_body = contacts_of.get_or_insert_with(|| {
+                let mut ends = Vec::with_capacity(2 * contacts.len());
+                for (i, c) in contacts.iter().enumerate() {
+                    ends.push((c.a, i as u32));
+                    ends.extend(c.b_body().map(|b| (b, i as u32)));
+                }
+                ByBody::new(bodies.len(), &ends).expect("a substep's contacts fit u32 indices")
+            });
             for &k in &changed {
                 for &ci in by_body.of(k) {
                     let c = &contacts[ci as usize];
@@ -208,38 +216,4 @@ pub fn collision_phase(
         }
     }
     stats
-}
-
-/// The contacts of each body (as A or as B), in contact order.
-struct BodyContacts {
-    start: Vec<u32>,
-    list: Vec<u32>,
-}
-
-impl BodyContacts {
-    fn new(contacts: &[Contact], n_bodies: usize) -> Self {
-        let mut start = vec![0u32; n_bodies + 1];
-        let ends = |c: &Contact| [Some(c.a), c.b_body()];
-        for c in contacts {
-            for k in ends(c).into_iter().flatten() {
-                start[k + 1] += 1;
-            }
-        }
-        for k in 0..n_bodies {
-            start[k + 1] += start[k];
-        }
-        let mut next = start.clone();
-        let mut list = vec![0u32; start[n_bodies] as usize];
-        for (i, c) in contacts.iter().enumerate() {
-            for k in ends(c).into_iter().flatten() {
-                list[next[k] as usize] = i as u32;
-                next[k] += 1;
-            }
-        }
-        Self { start, list }
-    }
-
-    fn of(&self, k: usize) -> &[u32] {
-        &self.list[self.start[k] as usize..self.start[k + 1] as usize]
-    }
 }

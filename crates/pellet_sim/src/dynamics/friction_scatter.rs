@@ -7,11 +7,12 @@
 //! same body (the two tangential rows of a contact, and a body's contacts follow one another).
 //! Built once per island solve, summed in registers per body.
 
+use super::by_body::ByBody;
 use super::friction_update::FrictionEntry;
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// One tangential row's share of one body.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 struct Term {
     /// Friction entry and which of its rows (t2 if set).
     entry: u32,
@@ -23,43 +24,30 @@ struct Term {
 /// The friction rows' responses by body.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct FrictionScatter {
-    /// Per body, its terms in entry order (t1 before t2): `terms[start[k]..start[k + 1]]`.
-    start: Vec<u32>,
-    terms: Vec<Term>,
+    /// Per body, its terms in entry order (t1 before t2).
+    terms: ByBody<Term>,
 }
 
 impl FrictionScatter {
     /// The scatter of `fric` over `n_bodies` local bodies.
     pub(crate) fn new(fric: &[FrictionEntry], n_bodies: usize) -> Self {
-        let mut start = vec![0u32; n_bodies + 1];
-        for x in fric {
-            start[x.t1.a + 1] += 2;
-            if let Some(b) = x.t1.b {
-                start[b + 1] += 2;
-            }
-        }
-        for k in 0..n_bodies {
-            start[k + 1] += start[k];
-        }
-        let mut next = start.clone();
-        let blank = Term { entry: 0, second: false, w: [0.0; 6] };
-        let mut terms = vec![blank; start[n_bodies] as usize];
+        let term = |entry: usize, second: bool, lin: &Vec3, ang: &Vec3| Term {
+            entry: entry as u32,
+            second,
+            w: [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z],
+        };
+        let mut pairs = Vec::with_capacity(4 * fric.len());
         for (e, x) in fric.iter().enumerate() {
             for (row, second) in [(&x.t1, false), (&x.t2, true)] {
                 let w = row.response_blocks();
-                let mut put = |k: usize, l: usize| {
-                    let (lin, ang) = (&w[l], &w[l + 1]);
-                    terms[next[k] as usize] =
-                        Term { entry: e as u32, second, w: [lin.x, lin.y, lin.z, ang.x, ang.y, ang.z] };
-                    next[k] += 1;
-                };
-                put(row.a, 0);
+                pairs.push((row.a, term(e, second, &w[0], &w[1])));
                 if let Some(b) = row.b {
-                    put(b, 2);
+                    pairs.push((b, term(e, second, &w[2], &w[3])));
                 }
             }
         }
-        Self { start, terms }
+        let terms = ByBody::new(n_bodies, &pairs).expect("an island's friction rows fit u32 indices");
+        Self { terms }
     }
 
     /// acc += M⁻¹Jₜᵀ g for the multipliers `gt` (along t1, t2 of each entry).
@@ -69,7 +57,7 @@ impl FrictionScatter {
     /// `acc` is a sum that started at +0 and so is never −0.
     pub(crate) fn add(&self, gt: &[(Real, Real)], acc: &mut [Real]) {
         for (k, v) in acc.chunks_exact_mut(6).enumerate() {
-            let terms = &self.terms[self.start[k] as usize..self.start[k + 1] as usize];
+            let terms = self.terms.of(k);
             if terms.is_empty() {
                 continue;
             }

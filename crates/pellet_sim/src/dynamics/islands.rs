@@ -78,11 +78,6 @@ pub fn build_islands(contacts: &[Contact], subset: &[usize], n_bodies: usize) ->
 }
 
 impl Island {
-    /// Local index of a global body.
-    pub fn local(&self, body: usize) -> usize {
-        self.bodies.binary_search(&body).expect("body belongs to the island")
-    }
-
     /// Mass data of the island's bodies.
     pub fn masses(&self, bodies: &[Body]) -> Vec<BodyMass> {
         self.bodies.iter().map(|&k| BodyMass::of(&bodies[k])).collect()

@@ -8,8 +8,9 @@
 //! order, the additions are the same ones in the same order (the same bits), and the bodies'
 //! sums are independent of each other.
 
+use super::by_body::ByBody;
 use super::rows::Row;
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// A row through both centres: the numbers of [`Row`]'s linear path the gather reads.
 #[derive(Debug, Clone, Copy)]
@@ -21,7 +22,7 @@ struct GatherRow {
 }
 
 /// One row's share of one body: the row and its M⁻¹Jᵀ block for that body.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 struct BodyTerm {
     row: u32,
     w: [Real; 3],
@@ -31,9 +32,8 @@ struct BodyTerm {
 #[derive(Debug, Clone, Default)]
 pub(crate) struct LinearProduct {
     rows: Vec<GatherRow>,
-    /// Per body, its terms in row order: `terms[start[k]..start[k + 1]]`.
-    start: Vec<u32>,
-    terms: Vec<BodyTerm>,
+    /// Per body, its terms in row order.
+    terms: ByBody<BodyTerm>,
 }
 
 impl LinearProduct {
@@ -43,30 +43,16 @@ impl LinearProduct {
         if !rows.iter().all(Row::is_linear) || rows.len() >= u32::MAX as usize || n_bodies >= u32::MAX as usize {
             return None;
         }
-        let mut count = vec![0u32; n_bodies + 1];
-        for r in rows {
-            count[r.a + 1] += 1;
-            if let Some(b) = r.b {
-                count[b + 1] += 1;
-            }
-        }
-        for k in 0..n_bodies {
-            count[k + 1] += count[k];
-        }
-        let start = count.clone();
-        let mut next = count;
-        let mut terms = vec![BodyTerm { row: 0, w: [0.0; 3] }; start[n_bodies] as usize];
-        let mut put = |k: usize, row: usize, w: [Real; 3]| {
-            terms[next[k] as usize] = BodyTerm { row: row as u32, w };
-            next[k] += 1;
-        };
+        let block = |w: &Vec3| [w.x, w.y, w.z];
+        let mut pairs = Vec::with_capacity(2 * rows.len());
         for (i, r) in rows.iter().enumerate() {
-            let (wa, wb) = r.linear_blocks();
-            put(r.a, i, wa);
+            let (w, row) = (r.response_blocks(), i as u32);
+            pairs.push((r.a, BodyTerm { row, w: block(&w[0]) }));
             if let Some(b) = r.b {
-                put(b, i, wb);
+                pairs.push((b, BodyTerm { row, w: block(&w[2]) }));
             }
         }
+        let terms = ByBody::new(n_bodies, &pairs)?;
         let rows = rows
             .iter()
             .map(|r| GatherRow {
@@ -75,22 +61,21 @@ impl LinearProduct {
                 dir: [r.dir.x, r.dir.y, r.dir.z],
             })
             .collect();
-        Some(Self { rows, start, terms })
+        Some(Self { rows, terms })
     }
 
     /// y = A x, with `u` as scratch (3 entries per body): the arithmetic of `Row::add_response`
     /// over the rows in order, then `Row::dot`, on the linear path (so the same bits).
     pub(crate) fn mul(&self, x: &[Real], y: &mut [Real], u: &mut Vec<Real>) {
-        let n_bodies = self.start.len() - 1;
         u.clear();
-        u.resize(3 * n_bodies, 0.0);
+        u.resize(3 * self.terms.n_bodies(), 0.0);
         for (k, uk) in u.chunks_exact_mut(3).enumerate() {
             // The row scatter skipped rows with x = 0; adding their zero products instead
             // leaves the bits alone (a sum that starts at +0 is never −0, and ±0 added to it
             // changes nothing) and saves a branch that MPRGP's mixed zero and free rows made
             // hard to predict.
             let mut sum = [0.0; 3];
-            for t in &self.terms[self.start[k] as usize..self.start[k + 1] as usize] {
+            for t in self.terms.of(k) {
                 let s = x[t.row as usize];
                 sum[0] += s * t.w[0];
                 sum[1] += s * t.w[1];
@@ -118,7 +103,7 @@ mod tests {
     use super::*;
     use crate::dynamics::lcp::LcpMatrix;
     use crate::dynamics::rows::{BodyMass, RowSystem};
-    use crate::math::{Mat3, Vec3};
+    use crate::math::Mat3;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 

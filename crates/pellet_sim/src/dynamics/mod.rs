@@ -1,6 +1,7 @@
 //! Dynamics: integration, contact rows, the LCP solvers, the collision and resting phases and
 //! position projection.
 
+mod by_body;
 pub mod collide;
 pub mod coupled_pgs;
 pub mod friction_guard;

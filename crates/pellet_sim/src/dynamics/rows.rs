@@ -88,12 +88,6 @@ impl Row {
         &self.w
     }
 
-    /// The linear M⁻¹Jᵀ blocks of A and of B (B's sign applied; zero for a static B).
-    pub fn linear_blocks(&self) -> ([Real; 3], [Real; 3]) {
-        let (a, b) = (&self.w[0], &self.w[2]);
-        ([a.x, a.y, a.z], [b.x, b.y, b.z])
-    }
-
     /// J_i · u for stacked body velocities `u` (6 per body: linear, angular).
     #[inline]
     pub fn dot(&self, u: &[Real]) -> Real {

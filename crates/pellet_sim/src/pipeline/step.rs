@@ -427,3 +427,72 @@ fn reevaluate(
     };
     collide_feature(container, pellet(c.a), c.b_body().map(pellet), &c.key)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::container::WallId;
+    use crate::geometry::contact::GapKinematics;
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    fn contact(key: ContactKey) -> Contact {
+        Contact {
+            a: key.a as usize,
+            b: key.b,
+            point: Vec3::zeros(),
+            lever_a: Vec3::zeros(),
+            lever_b: Vec3::zeros(),
+            normal: Vec3::z(),
+            gap: 0.0,
+            kinematics: GapKinematics::SpherePlane,
+            key,
+        }
+    }
+
+    /// Contacts in runs of increasing keys (pairs, then walls, as the narrow phase gives them) and
+    /// in no order at all, against last substep's forces on a random subset of the keys and on
+    /// keys that are gone: the galloping search finds what a binary search finds.
+    #[test]
+    fn the_galloping_search_finds_what_a_binary_search_finds() {
+        let mut rng = ChaCha8Rng::seed_from_u64(17);
+        for trial in 0..100 {
+            let n: u32 = rng.random_range(0..40);
+            let mut keys: Vec<ContactKey> = Vec::new();
+            for a in 0..n {
+                for f in 0..rng.random_range(0..3) {
+                    keys.push(ContactKey { a, b: Counterpart::Body(a as usize + 1), feature: f });
+                }
+                if rng.random_range(0..3) == 0 {
+                    keys.push(ContactKey { a, b: Counterpart::Wall(WallId::Floor), feature: 0 });
+                }
+            }
+            let mut warm: Vec<WarmForce> = Vec::new();
+            for &key in &keys {
+                if rng.random_range(0..3) != 0 {
+                    warm.push(WarmForce { key, normal: rng.random_range(0.1..1.0), friction: Vec3::x() });
+                }
+            }
+            // A key of a contact that is gone, after all the others.
+            let gone = ContactKey { a: n + 5, b: Counterpart::Body(0), feature: 9 };
+            warm.push(WarmForce { key: gone, normal: 1.0, friction: Vec3::y() });
+            warm.sort_by_key(|w| w.key);
+            // Pairs first, then walls; every third trial shuffled.
+            let (mut order, walls): (Vec<_>, Vec<_>) = keys.iter().partition(|k| matches!(k.b, Counterpart::Body(_)));
+            order.extend(walls);
+            if trial % 3 == 0 {
+                for i in (1..order.len()).rev() {
+                    order.swap(i, rng.random_range(0..=i));
+                }
+            }
+            let contacts: Vec<Contact> = order.iter().map(|&&k| contact(k)).collect();
+            let found = warm_starts(&warm, &contacts);
+            for (c, got) in contacts.iter().zip(found) {
+                let expected = warm
+                    .binary_search_by(|w| w.key.cmp(&c.key))
+                    .map_or((0.0, Vec3::zeros()), |i| (warm[i].normal, warm[i].friction));
+                assert_eq!(got, expected, "key {:?}", c.key);
+            }
+        }
+    }
+}
