@@ -102,24 +102,13 @@ impl Island {
 mod tests {
     use super::*;
     use crate::container::WallId;
-    use crate::geometry::contact::{ContactKey, Counterpart, GapKinematics};
-    use crate::math::Vec3;
+    use crate::geometry::contact::{ContactKey, Counterpart};
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
     fn contact(a: usize, b: Option<usize>) -> Contact {
         let b = b.map_or(Counterpart::Wall(WallId::Floor), Counterpart::Body);
-        Contact {
-            a,
-            b,
-            point: Vec3::zeros(),
-            lever_a: Vec3::zeros(),
-            lever_b: Vec3::zeros(),
-            normal: Vec3::z(),
-            gap: 0.0,
-            kinematics: GapKinematics::SpherePlane,
-            key: ContactKey { a: a as u32, b, feature: 0 },
-        }
+        Contact::bare(ContactKey { a: a as u32, b, feature: 0 })
     }
 
     /// The islands as they were built before (roots sorted, per-island body lists sorted and

@@ -90,6 +90,23 @@ pub struct Contact {
 }
 
 impl Contact {
+    /// A contact of key `key` with nothing but its bodies and key set (zero geometry, normal +z):
+    /// for tests of what only looks at who touches whom.
+    #[cfg(test)]
+    pub(crate) fn bare(key: ContactKey) -> Self {
+        Self {
+            a: key.a as usize,
+            b: key.b,
+            point: Vec3::zeros(),
+            lever_a: Vec3::zeros(),
+            lever_b: Vec3::zeros(),
+            normal: Vec3::z(),
+            gap: 0.0,
+            kinematics: GapKinematics::SpherePlane,
+            key,
+        }
+    }
+
     /// Index of body B if it is dynamic.
     pub fn b_body(&self) -> Option<usize> {
         match self.b {

@@ -432,23 +432,8 @@ fn reevaluate(
 mod tests {
     use super::*;
     use crate::container::WallId;
-    use crate::geometry::contact::GapKinematics;
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-
-    fn contact(key: ContactKey) -> Contact {
-        Contact {
-            a: key.a as usize,
-            b: key.b,
-            point: Vec3::zeros(),
-            lever_a: Vec3::zeros(),
-            lever_b: Vec3::zeros(),
-            normal: Vec3::z(),
-            gap: 0.0,
-            kinematics: GapKinematics::SpherePlane,
-            key,
-        }
-    }
 
     /// Contacts in runs of increasing keys (pairs, then walls, as the narrow phase gives them) and
     /// in no order at all, against last substep's forces on a random subset of the keys and on
@@ -485,7 +470,7 @@ mod tests {
                     order.swap(i, rng.random_range(0..=i));
                 }
             }
-            let contacts: Vec<Contact> = order.iter().map(|&&k| contact(k)).collect();
+            let contacts: Vec<Contact> = order.iter().map(|&&k| Contact::bare(k)).collect();
             let found = warm_starts(&warm, &contacts);
             for (c, got) in contacts.iter().zip(found) {
                 let expected = warm
