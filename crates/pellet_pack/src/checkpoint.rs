@@ -11,14 +11,15 @@
 use serde::{Deserialize, Serialize};
 
 use pellet_settle::EnergySample;
-use pellet_sim::{WarmForce, WorldState};
+use pellet_sim::{WarmForce, WarmImpulse, WorldState};
 
 use crate::config::PackConfig;
 use crate::driver::{Ending, PackError};
 use crate::loading::FeederState;
 
-/// Version of the checkpoint layout; a reader accepts only its own.
-pub const CHECKPOINT_VERSION: u32 = 1;
+/// Version of the checkpoint layout. A reader accepts its own and version 1 (written before
+/// the velocity-level stepper, whose impulses and integrator ledger it lacks).
+pub const CHECKPOINT_VERSION: u32 = 2;
 
 /// The driver's state between two steps, apart from the world and the loader.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -56,6 +57,8 @@ pub struct Checkpoint {
     pub feeder: FeederState,
     /// The driver.
     pub run: RunState,
+    /// The velocity-level stepper's warm impulses (empty for the other stepper).
+    pub impulses: Vec<WarmImpulse>,
 }
 
 impl Checkpoint {
@@ -75,12 +78,75 @@ impl Checkpoint {
         // The version leads the layout, so an older layout is named, not misread.
         let version: u32 = pellet_io::decode_message(bytes.get(..4).unwrap_or_default(), path, "checkpoint")
             .map_err(|e| setup(e.to_string()))?;
-        if version != CHECKPOINT_VERSION {
-            return Err(setup(format!(
-                "{path}: checkpoint version {version}, this pack reads version {CHECKPOINT_VERSION}; run without --resume"
-            )));
+        match version {
+            CHECKPOINT_VERSION => pellet_io::decode_message(bytes, path, "checkpoint").map_err(|e| setup(e.to_string())),
+            1 => pellet_io::decode_message::<v1::Checkpoint>(bytes, path, "checkpoint")
+                .map(v1::Checkpoint::upgrade)
+                .map_err(|e| setup(e.to_string())),
+            _ => Err(setup(format!(
+                "{path}: checkpoint version {version}, this pack reads versions 1 and {CHECKPOINT_VERSION}; run without --resume"
+            ))),
         }
-        pellet_io::decode_message(bytes, path, "checkpoint").map_err(|e| setup(e.to_string()))
+    }
+}
+
+/// The layout of version 1, read into the current one.
+mod v1 {
+    use super::*;
+    use pellet_sim::{Body, EnergyLedger};
+
+    #[derive(Deserialize)]
+    struct Ledger {
+        kinetic_translational: f64,
+        kinetic_rotational: f64,
+        potential: f64,
+        removed_by_collisions: f64,
+        removed_by_friction: f64,
+        removed_by_projection: f64,
+        resting_normal_work: f64,
+        resting_work_bound: f64,
+    }
+
+    #[derive(Deserialize)]
+    struct World {
+        bodies: Vec<Body>,
+        time: f64,
+        totals: Ledger,
+    }
+
+    #[derive(Deserialize)]
+    pub(super) struct Checkpoint {
+        version: u32,
+        world: World,
+        warm: Vec<WarmForce>,
+        feeder: FeederState,
+        run: RunState,
+    }
+
+    impl Checkpoint {
+        pub(super) fn upgrade(self) -> super::Checkpoint {
+            let t = self.world.totals;
+            let totals = EnergyLedger {
+                kinetic_translational: t.kinetic_translational,
+                kinetic_rotational: t.kinetic_rotational,
+                potential: t.potential,
+                removed_by_collisions: t.removed_by_collisions,
+                removed_by_friction: t.removed_by_friction,
+                removed_by_projection: t.removed_by_projection,
+                resting_normal_work: t.resting_normal_work,
+                resting_work_bound: t.resting_work_bound,
+                removed_by_integrator: 0.0,
+            };
+            debug_assert_eq!(self.version, 1);
+            super::Checkpoint {
+                version: CHECKPOINT_VERSION,
+                world: WorldState { bodies: self.world.bodies, time: self.world.time, totals },
+                warm: self.warm,
+                feeder: self.feeder,
+                run: self.run,
+                impulses: Vec::new(),
+            }
+        }
     }
 }
 
@@ -91,9 +157,16 @@ const MAY_CHANGE: [&str; 4] = ["pellet", "max_time_s", "checkpoint_every_s", "fo
 /// The settings in which `config` differs from the run recorded with `recorded_json` (the
 /// trajectory's `config` metadata), as "name: recorded → now"; empty if it may continue it.
 pub fn resume_conflicts(recorded_json: &str, config: &PackConfig) -> Vec<String> {
-    let Ok(serde_json::Value::Object(old)) = serde_json::from_str::<serde_json::Value>(recorded_json) else {
+    let Ok(serde_json::Value::Object(mut old)) = serde_json::from_str::<serde_json::Value>(recorded_json) else {
         return vec!["config: the recorded configuration is unreadable".into()];
     };
+    // A setting recorded before it existed reads as the value that run had (the field's
+    // default), not as a change.
+    if let Ok(serde_json::Value::Object(filled)) =
+        serde_json::from_str::<PackConfig>(recorded_json).map(|c| serde_json::to_value(c).unwrap_or_default())
+    {
+        old = filled;
+    }
     let Ok(serde_json::Value::Object(new)) = serde_json::to_value(config) else {
         return vec!["config: cannot encode the configuration".into()];
     };

@@ -10,6 +10,10 @@
 use serde::{Deserialize, Serialize};
 
 use crate::loading::LoadingScheme;
+pub use pellet_sim::Stepper;
+
+/// The stepper of a run that does not choose one.
+pub const DEFAULT_STEPPER: Stepper = Stepper::Acceleration;
 use crate::ConfigError;
 
 /// Parameters as typed (lengths in mm, times in s, angles in degrees).
@@ -72,6 +76,8 @@ pub struct PackOptions {
     pub friction_clamp: Option<ClampRule>,
     /// Also write the Foxglove viewer channels.
     pub foxglove: Option<bool>,
+    /// The engine's time-stepping scheme.
+    pub stepper: Option<Stepper>,
 }
 
 /// Which contact model the engine uses (physics.md's preface and §5.4).
@@ -170,7 +176,8 @@ impl PackOptions {
             contact_model,
             resting_band,
             friction_clamp,
-            foxglove
+            foxglove,
+            stepper
         )
     }
 }
@@ -244,6 +251,10 @@ pub struct PackConfig {
     /// Configurations recorded before it existed read as 1 s.
     #[serde(default = "default_checkpoint_every")]
     pub checkpoint_every_s: f64,
+    /// The engine's time-stepping scheme. Archives written before there was a choice read as
+    /// `acceleration`, the scheme that wrote them.
+    #[serde(default)]
+    pub stepper: Stepper,
 }
 
 fn default_checkpoint_every() -> f64 {
@@ -332,6 +343,7 @@ impl PackConfig {
                 " m/s",
             )?,
             friction_clamp: o.friction_clamp,
+            stepper: o.stepper.unwrap_or(DEFAULT_STEPPER),
         })
     }
 }

@@ -163,7 +163,7 @@ pub fn resume_pack(
         Some(c) => {
             let time_s = c.time_s();
             world.restore(c.world).map_err(|e| PackError::Engine { time_s, message: e.to_string() })?;
-            pipeline = Pipeline::with_warm_forces(&c.warm);
+            pipeline = Pipeline::with_warm_state(&c.warm, &c.impulses);
             feeder.set_state(c.feeder);
             run = RunState { ending: None, ..c.run };
         }
@@ -186,6 +186,7 @@ pub fn resume_pack(
         warm: pipeline.warm_forces(),
         feeder: feeder.state(),
         run: run.clone(),
+        impulses: pipeline.warm_impulses(),
     };
     let ending = loop {
         let t = world.time();

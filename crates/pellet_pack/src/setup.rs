@@ -161,6 +161,7 @@ pub fn engine_params(config: &PackConfig) -> EngineParams {
         eps_f: eps,
         dt_cap: base.dt_cap.min(0.5 * eps / g),
         friction_clamp,
+        stepper: config.stepper,
         ..base
     }
 }

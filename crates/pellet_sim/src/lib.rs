@@ -43,8 +43,11 @@ pub use error::SimError;
 pub use geometry::contact::{Contact, ContactKey, Counterpart};
 pub use geometry::sdf::SdfGrid;
 pub use math::{Mat3, Quat, Real, Vec3};
-pub use params::{ApproachBound, EngineParams, FrictionClamp, IterativeSolver, Material, WallMaterial};
+pub use params::{
+    ApproachBound, EngineParams, FrictionClamp, IterativeSolver, Material, Stepper, VelocityParams, WallMaterial,
+};
 pub use pipeline::ledger::EnergyLedger;
 pub use pipeline::step::{ContactRecord, Pipeline, StepReport, WarmForce};
+pub use pipeline::velocity_step::WarmImpulse;
 pub use pipeline::world::{World, WorldState};
 pub use shape::{BodyType, ShapeDesc};

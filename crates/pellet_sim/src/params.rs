@@ -46,6 +46,46 @@ pub enum ApproachBound {
     Normal,
 }
 
+/// The time-stepping scheme (`docs/engine.md`, "Time stepping").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Stepper {
+    /// The paper's force-level scheme: substeps of δt = 0.2λ/v_max capped at `dt_cap`, collision
+    /// passes of impulses, then an acceleration-level LCP of the resting contacts.
+    #[default]
+    Acceleration,
+    /// Velocity-level time stepping: one complementarity solve on impulses per step for the
+    /// colliding and resting contacts together, steps sized by kinematics
+    /// ([`VelocityParams`]).
+    Velocity,
+}
+
+/// The velocity-level stepper's parameters, in one place for `pack`, the benchmark and the
+/// tests. Lengths are factors of the reference pellet size `d`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct VelocityParams {
+    /// Longest step, s.
+    pub max_step: Real,
+    /// Largest relative surface travel of a near pair or wall over one step, factor of `d`:
+    /// the step is `travel · d / s` with `s` the fastest near pair's bound.
+    pub travel: Real,
+    /// The solve stops when a sweep changes no contact's relative velocity by more than this
+    /// factor of εp, or by more than `relative_tolerance` of the fastest pellet's speed if
+    /// that is more: a bed in motion needs no better, and a bed coming to rest gets this.
+    pub tolerance_factor: Real,
+    /// The solve's tolerance as a fraction of the fastest pellet's speed (see
+    /// `tolerance_factor`).
+    pub relative_tolerance: Real,
+    /// Largest number of Gauss–Seidel sweeps per step.
+    pub max_sweeps: usize,
+}
+
+impl Default for VelocityParams {
+    fn default() -> Self {
+        Self { max_step: 2.5e-3, travel: 0.05, tolerance_factor: 2e-3, relative_tolerance: 1e-2, max_sweeps: 200 }
+    }
+}
+
 /// All tunables, SI units. Lengths that scale with the pellet are given as factors of the
 /// reference pellet size `d` = twice the largest registered bounding radius.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -107,6 +147,13 @@ pub struct EngineParams {
     /// existed read as `Speed`, the bound they were run with.
     #[serde(default = "ApproachBound::speed")]
     pub approach_bound: ApproachBound,
+    /// The time-stepping scheme. Serialised parameters from before it existed read as
+    /// `Acceleration`, the scheme they were run with.
+    #[serde(default)]
+    pub stepper: Stepper,
+    /// Parameters of the velocity-level stepper (unused by the other).
+    #[serde(default)]
+    pub velocity: VelocityParams,
 }
 
 impl ApproachBound {
@@ -141,6 +188,8 @@ impl Default for EngineParams {
             max_rotation_per_substep: 0.01,
             max_rewinds: 8,
             approach_bound: ApproachBound::Normal,
+            stepper: Stepper::Acceleration,
+            velocity: VelocityParams::default(),
         }
     }
 }
@@ -176,6 +225,13 @@ impl EngineParams {
         positive("max_penetration_factor", self.max_penetration_factor)?;
         positive("solver_tolerance_factor", self.solver_tolerance_factor)?;
         positive("max_rotation_per_substep", self.max_rotation_per_substep)?;
+        positive("velocity.max_step", self.velocity.max_step)?;
+        positive("velocity.travel", self.velocity.travel)?;
+        positive("velocity.tolerance_factor", self.velocity.tolerance_factor)?;
+        positive("velocity.relative_tolerance", self.velocity.relative_tolerance)?;
+        if self.velocity.max_sweeps == 0 {
+            return Err(SimError::InvalidParameter { name: "velocity.max_sweeps", value: 0.0, reason: "must be >= 1" });
+        }
         if self.collision_pass_cap == 0 || self.apgd_max_iterations == 0 || self.pgs_max_iterations == 0 {
             return Err(SimError::InvalidParameter { name: "iteration caps", value: 0.0, reason: "must be >= 1" });
         }

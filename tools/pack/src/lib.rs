@@ -122,6 +122,11 @@ pub struct Args {
     /// recommended, zero for paper].
     #[arg(long, value_enum)]
     friction_clamp: Option<ClampArg>,
+    /// Time-stepping scheme: `acceleration` (the paper's force-level substeps, at most
+    /// 0.25 ms each) or `velocity` (one impulse solve per step of up to 2.5 ms)
+    /// [default: acceleration].
+    #[arg(long, value_enum)]
+    stepper: Option<StepperArg>,
     /// Simulated time limit (s) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
@@ -162,6 +167,15 @@ enum ModelArg {
     Paper,
     /// Static friction at resting contacts, stick clamp, velocity bias (physics.md).
     Recommended,
+}
+
+/// Time-stepping schemes, as spelled on the command line.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum StepperArg {
+    /// The paper's force-level scheme.
+    Acceleration,
+    /// Velocity-level time stepping.
+    Velocity,
 }
 
 /// Friction clamp rules, as spelled on the command line.
@@ -235,6 +249,10 @@ impl Args {
             friction_clamp: self.friction_clamp.map(|c| match c {
                 ClampArg::Stick => ClampRule::Stick,
                 ClampArg::Zero => ClampRule::Zero,
+            }),
+            stepper: self.stepper.map(|m| match m {
+                StepperArg::Acceleration => pellet_pack::Stepper::Acceleration,
+                StepperArg::Velocity => pellet_pack::Stepper::Velocity,
             }),
             contact_model: self.contact_model.map(|m| match m {
                 ModelArg::Paper => ContactModel::Paper,

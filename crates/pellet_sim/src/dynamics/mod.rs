@@ -7,6 +7,7 @@ pub mod coupled_pgs;
 pub mod friction_guard;
 mod friction_scatter;
 pub mod friction_update;
+pub mod impulse_solve;
 pub mod integrator;
 pub mod island_solve;
 pub mod islands;

@@ -23,6 +23,12 @@ pub struct EnergyLedger {
     pub resting_normal_work: f64,
     /// Σ f εp δt over resting contacts.
     pub resting_work_bound: f64,
+    /// Energy the velocity-level stepper's semi-implicit step takes out under gravity: a body
+    /// with contacts moves by h·v⁺, not by the mean velocity h·(v⁻ + v⁺)/2 that gravity's work
+    /// is counted with, so Σ m g·h (v⁺ − v⁻)/2 per step (zero for a body at rest; the
+    /// force-level stepper integrates exactly and leaves it zero).
+    #[serde(default)]
+    pub removed_by_integrator: f64,
 }
 
 impl EnergyLedger {
@@ -38,5 +44,6 @@ impl EnergyLedger {
         self.removed_by_projection += other.removed_by_projection;
         self.resting_normal_work += other.resting_normal_work;
         self.resting_work_bound += other.resting_work_bound;
+        self.removed_by_integrator += other.removed_by_integrator;
     }
 }

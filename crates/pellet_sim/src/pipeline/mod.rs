@@ -3,4 +3,5 @@
 pub mod ledger;
 mod proximity;
 pub mod step;
+pub mod velocity_step;
 pub mod world;

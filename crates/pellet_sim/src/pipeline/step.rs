@@ -5,6 +5,7 @@
 
 use super::ledger::EnergyLedger;
 use super::proximity::Proximity;
+use super::velocity_step::WarmImpulse;
 use super::world::World;
 use crate::body::Body;
 use crate::container::Container;
@@ -22,6 +23,7 @@ use crate::geometry::sample_cache::SampleCache;
 use crate::geometry::samples::GeometryCache;
 use crate::geometry::sdf::lipschitz;
 use crate::math::{Real, Vec3};
+use crate::params::Stepper;
 use crate::shape::{BodyType, ShapeDesc};
 use serde::{Deserialize, Serialize};
 
@@ -39,12 +41,14 @@ pub struct ContactRecord {
 /// Scratch buffers and caches reused across steps. Not part of the simulation state.
 #[derive(Debug, Default, Clone)]
 pub struct Pipeline {
-    broad: PairCache,
-    samples: SampleCache,
+    pub(crate) broad: PairCache,
+    pub(crate) samples: SampleCache,
     /// Last substep's resting forces, sorted by contact key: the warm start of the next
     /// resting phase.
     warm: Vec<WarmForce>,
-    saved: Vec<Body>,
+    /// The velocity-level stepper's impulses of the last step, sorted by key.
+    pub(crate) impulses: Vec<WarmImpulse>,
+    pub(crate) saved: Vec<Body>,
     /// The last committed substep's contacts and their resting forces (normal, friction),
     /// kept as the substep left them; `last_contacts` pairs them up when asked (building the
     /// records every substep moved ~0.4 MB per substep of a 690-sphere bed for nobody).
@@ -84,6 +88,20 @@ impl Pipeline {
         Self { warm, ..Self::default() }
     }
 
+    /// The velocity-level stepper's warm impulses, in key order (empty for the other stepper).
+    pub fn warm_impulses(&self) -> Vec<WarmImpulse> {
+        self.impulses.clone()
+    }
+
+    /// A pipeline that starts from `forces` and `impulses` (as returned by
+    /// [`Self::warm_forces`] and [`Self::warm_impulses`]).
+    pub fn with_warm_state(forces: &[WarmForce], impulses: &[WarmImpulse]) -> Self {
+        let mut p = Self::with_warm_forces(forces);
+        p.impulses = impulses.to_vec();
+        p.impulses.sort_by_key(|w| w.key);
+        p
+    }
+
     /// The contacts of the last committed substep.
     pub fn last_contacts(&self) -> &[ContactRecord] {
         self.last_records.get_or_init(|| {
@@ -100,7 +118,7 @@ impl Pipeline {
         })
     }
 
-    fn set_last_contacts(&mut self, contacts: Vec<Contact>, normal: Vec<Real>, friction: Vec<Vec3>) {
+    pub(crate) fn set_last_contacts(&mut self, contacts: Vec<Contact>, normal: Vec<Real>, friction: Vec<Vec3>) {
         self.last = contacts;
         self.last_forces = (normal, friction);
         self.last_records.take();
@@ -161,7 +179,7 @@ pub struct StepReport {
 }
 
 impl World {
-    fn free_flight(&mut self, dt: Real, report: &mut StepReport) {
+    pub(crate) fn free_flight(&mut self, dt: Real, report: &mut StepReport) {
         let g = self.params.gravity;
         let max_rot = self.params.max_rotation_per_substep;
         for b in &mut self.bodies {
@@ -170,7 +188,7 @@ impl World {
         }
     }
 
-    fn pellet<'a>(&'a self, bodies: &'a [Body], index: usize, ty: usize) -> Pellet<'a> {
+    pub(crate) fn pellet<'a>(&'a self, bodies: &'a [Body], index: usize, ty: usize) -> Pellet<'a> {
         Pellet { index, body: &bodies[index], shape: &self.types[ty].shape, geom: &self.geometry.types[ty] }
     }
 
@@ -227,6 +245,9 @@ impl World {
             });
         }
         self.geometry.sync(&self.types);
+        if self.params.stepper == Stepper::Velocity {
+            return self.step_velocity(dt_big, pipeline);
+        }
         let mut report = StepReport { dt_min: Real::INFINITY, ..StepReport::default() };
         let t_end = self.time + dt_big;
         let cap = self.params.dt_cap;
@@ -414,7 +435,7 @@ fn warm_starts(warm: &[WarmForce], contacts: &[Contact]) -> Vec<(Real, Vec3)> {
 }
 
 /// Re-evaluates one contact's feature at the given poses (the narrow phase for that feature).
-fn reevaluate(
+pub(crate) fn reevaluate(
     types: &[BodyType],
     geometry: &GeometryCache,
     container: &Container,

@@ -1,0 +1,392 @@
+//! The velocity-level stepper (`Stepper::Velocity`, `docs/engine.md` "Velocity-level
+//! stepping"): per step of length h, the contacts of every pair and wall whose gap can close
+//! within h (speculative contacts), classified by their relative normal velocity at the start
+//! of the step, solved together on impulses with restitution and Coulomb friction
+//! (`dynamics::impulse_solve`), a semi-implicit step x⁺ = x + h v⁺, and position projection that
+//! leaves velocities alone. Steps are sized by kinematics: no near pair's relative surface
+//! travel over a step beyond `VelocityParams::travel` of the pellet size, and no step beyond
+//! `VelocityParams::max_step`; gravity does not limit it, because the class of a contact is
+//! decided before gravity's increment.
+
+use super::step::{reevaluate, Pipeline, StepReport};
+use super::world::World;
+use crate::body::Body;
+use crate::container::WallId;
+use crate::dynamics::impulse_solve::{solve_impulses, NormalTarget, VelocityState};
+use crate::dynamics::integrator::advance;
+use crate::dynamics::rows::relative_velocity_from;
+use crate::dynamics::stabilize::project_positions;
+use crate::error::SimError;
+use crate::geometry::contact::{Contact, ContactKey, Counterpart};
+use crate::geometry::narrow_phase::{collide_pair_cached, collide_wall};
+use crate::math::{axial_distance, Real, Vec3};
+use crate::shape::ShapeDesc;
+use serde::{Deserialize, Serialize};
+
+/// A contact's impulses of the last committed step, kept by key: the warm start of the next
+/// step's solve, as forces (impulse / h) so that a step of another length starts from the
+/// same forces. A checkpoint carries them (they shape the next answer).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WarmImpulse {
+    /// The contact.
+    pub key: ContactKey,
+    /// Normal impulse over the step length, N.
+    pub normal: Real,
+    /// Friction impulse on body A over the step length, world frame, N.
+    pub friction: Vec3,
+    /// The relative normal velocity (m/s, < 0) with which the contact was closing when the
+    /// last step stopped it at the touching gap; 0 if it was not. The next step's restitution
+    /// acts on this speed, as the impact happened at the end of that step.
+    pub approach: Real,
+}
+
+/// Near pairs and walls over the coming step, with the bound on each one's relative surface
+/// speed (m/s) that sizes its speculative contacts.
+struct Near {
+    pairs: Vec<(usize, usize, Real)>,
+    walls: Vec<(usize, WallId, Real)>,
+    /// The speed that sizes the step: the largest relative surface speed of a touching pair,
+    /// or closing speed of one that does not touch yet.
+    step_speed: Real,
+}
+
+impl World {
+    fn round(&self, k: usize) -> bool {
+        matches!(self.types[self.bodies[k].type_id.0 as usize].shape, ShapeDesc::Sphere { .. })
+    }
+
+    /// Pairs and walls that may come within δ_c of each other over `horizon` (swept bounding
+    /// spheres: nothing that can touch within the step is left out, so nothing tunnels).
+    fn near(&self, pipeline: &mut Pipeline, horizon: Real) -> Near {
+        let delta_c = self.params.contact_distance_factor * self.reference_size();
+        let g = self.params.gravity.norm();
+        let fall = g * horizon * horizon;
+        let centres: Vec<Vec3> = self.bodies.iter().map(|b| b.position).collect();
+        let speeds: Vec<Real> = self.bodies.iter().map(|b| b.velocity().norm()).collect();
+        let radii: Vec<Real> = self
+            .bodies
+            .iter()
+            .zip(&speeds)
+            .map(|(b, s)| b.bounding_radius + s * horizon + fall + 0.5 * delta_c)
+            .collect();
+        // A sphere's spin moves none of its surface through another body.
+        let spins: Vec<Real> = (0..self.bodies.len())
+            .map(|k| {
+                if self.round(k) {
+                    0.0
+                } else {
+                    self.bodies[k].angular_velocity().norm() * self.bodies[k].bounding_radius
+                }
+            })
+            .collect();
+        let mut near = Near { pairs: Vec::new(), walls: Vec::new(), step_speed: 0.0 };
+        let skin = self.lambda();
+        for &(i, j) in pipeline.broad.overlapping_pairs(&centres, &radii, skin) {
+            let (i, j) = (i as usize, j as usize);
+            let (bi, bj) = (&self.bodies[i], &self.bodies[j]);
+            let c = bi.position - bj.position;
+            let distance = c.norm();
+            let gap = distance - bi.bounding_radius - bj.bounding_radius;
+            let v = bi.velocity() - bj.velocity();
+            let full = v.norm() + spins[i] + spins[j];
+            // Spheres apart close at most at the rate their centres approach; touching ones
+            // (and any pair of other shapes, whose bounding gap says little) slide and roll.
+            let step_speed = if self.round(i) && self.round(j) && gap > delta_c && distance > 0.0 {
+                (-v.dot(&c) / distance).max(0.0)
+            } else {
+                full
+            };
+            near.step_speed = near.step_speed.max(step_speed);
+            near.pairs.push((i, j, full));
+        }
+        for (k, b) in self.bodies.iter().enumerate() {
+            let reach = speeds[k] * horizon + fall + delta_c;
+            let round = self.round(k);
+            self.container.wall_gaps(&b.position, b.bounding_radius, |wall, gap| {
+                if gap > reach {
+                    return;
+                }
+                let full = speeds[k] + spins[k] + g * horizon;
+                let step_speed = if round && gap > delta_c { wall_approach(self, wall, b) + g * horizon } else { full };
+                near.step_speed = near.step_speed.max(step_speed);
+                near.walls.push((k, wall, full));
+            });
+        }
+        near
+    }
+
+    /// Advances by `dt_big` with the velocity-level stepper.
+    pub(crate) fn step_velocity(&mut self, dt_big: Real, pipeline: &mut Pipeline) -> Result<StepReport, SimError> {
+        let mut report = StepReport { dt_min: Real::INFINITY, ..StepReport::default() };
+        let t_end = self.time + dt_big;
+        let vp = self.params.velocity;
+        let d = self.reference_size();
+        while t_end - self.time > 1e-14 * t_end.abs().max(1e-3) {
+            let remaining = t_end - self.time;
+            let horizon = remaining.min(vp.max_step);
+            let near = self.near(pipeline, horizon);
+            if near.pairs.is_empty() && near.walls.is_empty() {
+                self.free_flight(horizon, &mut report);
+                report.free_flights += 1;
+                self.time = if horizon == remaining { t_end } else { self.time + horizon };
+                pipeline.impulses.clear();
+                pipeline.set_last_contacts(Vec::new(), Vec::new(), Vec::new());
+                continue;
+            }
+            let mut h = horizon;
+            if near.step_speed > 0.0 {
+                h = h.min(vp.travel * d / near.step_speed);
+            }
+            // Equal steps to the end of the big step, not a sliver at its end.
+            let n = (remaining / h * (1.0 - 1e-12)).ceil().max(1.0);
+            h = remaining / n;
+            self.velocity_substep(h, n == 1.0, t_end, &near, pipeline, &mut report)?;
+        }
+        self.time = t_end;
+        report.energy.kinetic_translational = self.bodies.iter().map(Body::kinetic_translational).sum();
+        report.energy.kinetic_rotational = self.bodies.iter().map(Body::kinetic_rotational).sum();
+        report.energy.potential = self.potential_energy();
+        self.totals.accumulate(&report.energy);
+        if report.dt_min == Real::INFINITY {
+            report.dt_min = 0.0;
+        }
+        Ok(report)
+    }
+
+    fn speculative_contacts(&self, near: &Near, h: Real, pipeline: &mut Pipeline) -> Result<Vec<Contact>, SimError> {
+        let delta_c = self.params.contact_distance_factor * self.reference_size();
+        let g = self.params.gravity.norm();
+        let mut out = Vec::with_capacity(near.pairs.len() + near.walls.len());
+        pipeline.samples.next_round();
+        for &(i, j, s) in &near.pairs {
+            let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
+            let pa = self.pellet(&self.bodies, i, ti);
+            let pb = self.pellet(&self.bodies, j, tj);
+            collide_pair_cached(pa, pb, delta_c + s * h, &mut pipeline.samples, &mut out)?;
+        }
+        for &(k, wall, s) in &near.walls {
+            let t = self.bodies[k].type_id.0 as usize;
+            let pa = self.pellet(&self.bodies, k, t);
+            collide_wall(&self.container, wall, pa, delta_c + s * h + g * h * h, &mut out)?;
+        }
+        Ok(out)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn velocity_substep(
+        &mut self,
+        h0: Real,
+        to_end: bool,
+        t_end: Real,
+        near: &Near,
+        pipeline: &mut Pipeline,
+        report: &mut StepReport,
+    ) -> Result<(), SimError> {
+        let d = self.reference_size();
+        let delta_c = self.params.contact_distance_factor * d;
+        let slop = self.params.slop_factor * d;
+        let pen_max = self.params.max_penetration_factor * self.nominal_size();
+        let eps_p = self.params.eps_p;
+        let g = self.params.gravity;
+        let max_rot = self.params.max_rotation_per_substep;
+        let vp = self.params.velocity;
+        pipeline.saved.clone_from(&self.bodies);
+        let bounds = self.gap_bounds();
+        let mut h = h0;
+        let mut rewinds = 0;
+        loop {
+            let clock = std::time::Instant::now();
+            let contacts = self.speculative_contacts(near, h, pipeline)?;
+            report.wall_seconds[0] += clock.elapsed().as_secs_f64();
+            let clock = std::time::Instant::now();
+            let vel0: Vec<Vec3> = self.bodies.iter().map(Body::velocity).collect();
+            let omega0: Vec<Vec3> = self.bodies.iter().map(Body::angular_velocity).collect();
+            let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity_from(c, &vel0, &omega0)).collect();
+            let memory = remembered(&pipeline.impulses, &contacts);
+            let (mut colliding, mut resting) = (0u64, 0u64);
+            let mut targets = Vec::with_capacity(contacts.len());
+            let mut warm = Vec::with_capacity(contacts.len());
+            let mut colliding_now = Vec::with_capacity(contacts.len());
+            for ((c, u), m) in contacts.iter().zip(&u0).zip(&memory) {
+                let (cor, mu) = match c.b {
+                    Counterpart::Body(_) => (self.material.cor, self.material.friction),
+                    Counterpart::Wall(_) => (self.wall_material.cor, self.wall_material.friction),
+                };
+                let un = c.normal.dot(u);
+                let pending = m.is_some_and(|m| m.approach < 0.0);
+                let approach = m.map_or(un, |m| if m.approach < 0.0 { un.min(m.approach) } else { un });
+                let start = m.map_or((0.0, Vec3::zeros()), |m| (m.normal * h, m.friction * h));
+                // An open contact closing fast is first brought to the touching gap, and bounces
+                // the step after, from there: bouncing at once from up to δ_c would move the
+                // bounce point from one impact to the next, and a ball bouncing on the spot
+                // then gains what it falls further.
+                let collide = approach < -eps_p && (c.gap <= 0.0 || pending);
+                let (min_speed, w) = if collide {
+                    colliding += 1;
+                    // Newton's law acts at the start of the step; gravity's increment of the
+                    // relative velocity over the step (against a wall; none between two
+                    // pellets) follows it. Never below what keeps the gap from closing.
+                    let fall = if c.b_body().is_none() { c.normal.dot(&g) * h } else { 0.0 };
+                    ((-cor * approach + fall).max(-c.gap.max(0.0) / h), (0.0, Vec3::zeros()))
+                } else {
+                    if c.gap <= delta_c {
+                        resting += 1;
+                    }
+                    (-c.gap.max(0.0) / h, start)
+                };
+                colliding_now.push(collide);
+                targets.push(NormalTarget { min_speed, mu });
+                warm.push(w);
+            }
+            let mut st = VelocityState::free(&self.bodies, &g, h);
+            let fastest = vel0.iter().map(|v| v.norm()).fold(0.0, Real::max);
+            let tolerance = (vp.tolerance_factor * eps_p).max(vp.relative_tolerance * fastest);
+            let sol = solve_impulses(&contacts, &targets, &warm, &mut st, tolerance, vp.max_sweeps);
+            report.wall_seconds[2] += clock.elapsed().as_secs_f64();
+            // Each body's momenta after the step: gravity's increment plus the contact impulses.
+            // A body that no contact pushes flies exactly (a semi-implicit step under gravity
+            // alone takes ½ m g²h² out per step: a small bounce near the floor, a few steps
+            // long, lost a third of its energy that way).
+            let mut touched = vec![false; self.bodies.len()];
+            let mut dp = vec![Vec3::zeros(); self.bodies.len()];
+            let mut dl = vec![Vec3::zeros(); self.bodies.len()];
+            for (k, c) in contacts.iter().enumerate() {
+                if sol.normal[k] == 0.0 {
+                    continue;
+                }
+                let j = c.normal * sol.normal[k] + sol.friction[k];
+                touched[c.a] = true;
+                dp[c.a] += j;
+                dl[c.a] += c.lever_a.cross(&j);
+                if let Some(b) = c.b_body() {
+                    touched[b] = true;
+                    dp[b] -= j;
+                    dl[b] -= c.lever_b.cross(&j);
+                }
+            }
+            let mut integrator = 0.0;
+            let mut rot_steps = 0u64;
+            for (k, b) in self.bodies.iter_mut().enumerate() {
+                if touched[k] {
+                    let v_before = b.velocity();
+                    b.linear_momentum += g * (b.mass * h) + dp[k];
+                    b.angular_momentum += dl[k];
+                    integrator += 0.5 * b.mass * h * g.dot(&(b.velocity() - v_before));
+                    rot_steps += advance(b, &Vec3::zeros(), &Vec3::zeros(), h, max_rot) as u64;
+                } else {
+                    rot_steps += advance(b, &(g * b.mass), &Vec3::zeros(), h, max_rot) as u64;
+                }
+            }
+            let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
+            let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
+            let mut bodies = std::mem::take(&mut self.bodies);
+            let clock = std::time::Instant::now();
+            let proj = project_positions(&mut bodies, &contacts, &pipeline.saved, &eval, &bounds, slop, 0.01 * d, &g);
+            report.wall_seconds[3] += clock.elapsed().as_secs_f64();
+            self.bodies = bodies;
+            if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
+                self.bodies.clone_from(&pipeline.saved);
+                h *= 0.5;
+                rewinds += 1;
+                report.rewinds += 1;
+                continue;
+            }
+            if let Some(k) = self.bodies.iter().position(|b| !b.is_finite()) {
+                return Err(SimError::NonFiniteState(k as u32));
+            }
+            // Work of the impulses: Σ λ·(u⁻ + u⁺)/2 with u⁻ the velocity before gravity's
+            // increment, exact for velocities linear in the impulses.
+            let (mut normal_work, mut friction_work) = (0.0, 0.0);
+            let mut impacts = 0u64;
+            for (k, c) in contacts.iter().enumerate() {
+                let mean = 0.5 * (u0[k] + sol.relative_after[k]);
+                normal_work += sol.normal[k] * c.normal.dot(&mean);
+                friction_work += sol.friction[k].dot(&mean);
+                if sol.normal[k] > 0.0 && colliding_now[k] {
+                    impacts += 1;
+                }
+            }
+            report.rotation_substeps += rot_steps;
+            report.substeps += 1;
+            report.dt_min = report.dt_min.min(h);
+            report.dt_max = report.dt_max.max(h);
+            report.contacts += contacts.len() as u64;
+            report.colliding += colliding;
+            report.resting += resting;
+            report.impulses += impacts;
+            report.solver_iterations += sol.sweeps as u64;
+            report.solver_residual = report.solver_residual.max(sol.residual);
+            report.solver_residual_tight = report.solver_residual_tight.max(sol.residual);
+            report.unconverged_islands += !sol.converged as u32;
+            report.largest_island = report.largest_island.max(contacts.len());
+            report.max_penetration = report.max_penetration.max(proj.max_penetration_before);
+            report.max_penetration_after_projection =
+                report.max_penetration_after_projection.max(proj.max_penetration_after);
+            let e = &mut report.energy;
+            e.removed_by_collisions -= normal_work;
+            e.removed_by_friction -= friction_work;
+            e.removed_by_projection -= proj.potential_change;
+            e.removed_by_integrator += integrator;
+            // What the next step starts from; a contact stopped at the touching gap while
+            // closing fast keeps its approach speed for the restitution of the next step.
+            pipeline.impulses = contacts
+                .iter()
+                .enumerate()
+                .filter_map(|(k, c)| {
+                    let un = c.normal.dot(&u0[k]);
+                    let approach = match memory[k] {
+                        Some(m) if m.approach < 0.0 => un.min(m.approach),
+                        _ => un,
+                    };
+                    let stopped = c.gap > 0.0 && approach < -eps_p && sol.normal[k] > 0.0 && !colliding_now[k];
+                    // The speed at the touching gap: against a wall, gravity has sped the
+                    // closing up over the gap (u² + 2aφ, exact for a body falling on the floor).
+                    let pull = if c.b_body().is_none() { -c.normal.dot(&g) } else { 0.0 };
+                    let approach =
+                        if stopped { -(approach * approach + 2.0 * pull.max(0.0) * c.gap).sqrt() } else { 0.0 };
+                    (sol.normal[k] > 0.0 || stopped).then(|| WarmImpulse {
+                        key: c.key,
+                        normal: sol.normal[k] / h,
+                        friction: sol.friction[k] / h,
+                        approach,
+                    })
+                })
+                .collect();
+            pipeline.impulses.sort_by_key(|w| w.key);
+            let normal: Vec<Real> = sol.normal.iter().map(|l| l / h).collect();
+            let friction: Vec<Vec3> = sol.friction.iter().map(|l| l / h).collect();
+            pipeline.set_last_contacts(contacts, normal, friction);
+            self.time = if to_end && rewinds == 0 { t_end } else { self.time + h };
+            return Ok(());
+        }
+    }
+}
+
+/// How fast a sphere's translation closes its gap to a wall it does not touch (the tube wall:
+/// radial, plus what tangential motion adds over a step).
+fn wall_approach(world: &World, wall: WallId, b: &Body) -> Real {
+    let v = b.velocity();
+    match wall {
+        WallId::Floor => (-v.z).max(0.0),
+        WallId::Lid => v.z.max(0.0),
+        WallId::Tube => {
+            let r = axial_distance(b.position.x, b.position.y);
+            let vxy = Vec3::new(v.x, v.y, 0.0);
+            if r <= 1e-12 {
+                return vxy.norm();
+            }
+            let radial = Vec3::new(b.position.x / r, b.position.y / r, 0.0);
+            let vr = vxy.dot(&radial);
+            let vt = (vxy - vr * radial).norm();
+            // Second order in the tangential speed over a step of at most max_step.
+            let inner = (r - vr.abs() * world.params.velocity.max_step).max(1e-12);
+            vr.max(0.0) + (vt * vt * world.params.velocity.max_step / (2.0 * inner)).min(vt)
+        }
+        WallId::Plane(_) => v.norm(),
+    }
+}
+
+/// Each contact's memory from the last step (`memory` sorted by key), or `None`.
+fn remembered<'a>(memory: &'a [WarmImpulse], contacts: &[Contact]) -> Vec<Option<&'a WarmImpulse>> {
+    contacts.iter().map(|c| memory.binary_search_by(|w| w.key.cmp(&c.key)).ok().map(|i| &memory[i])).collect()
+}
