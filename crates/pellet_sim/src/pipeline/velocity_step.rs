@@ -213,9 +213,9 @@ impl World {
                     Counterpart::Wall(_) => (self.wall_material.cor, self.wall_material.friction),
                 };
                 let un = c.normal.dot(u);
-                let pending = m.is_some_and(|m| m.approach < 0.0);
-                let approach = m.map_or(un, |m| if m.approach < 0.0 { un.min(m.approach) } else { un });
-                let start = m.map_or((0.0, Vec3::zeros()), |m| (m.normal * h, m.friction * h));
+                let pending = m.approach < 0.0;
+                let approach = if pending { un.min(m.approach) } else { un };
+                let start = (m.normal * h, m.friction * h);
                 // An open contact closing fast is first brought to the touching gap, and bounces
                 // the step after, from there: bouncing at once from up to δ_c would move the
                 // bounce point from one impact to the next, and a ball bouncing on the spot
@@ -334,10 +334,7 @@ impl World {
                 .enumerate()
                 .filter_map(|(k, c)| {
                     let un = c.normal.dot(&u0[k]);
-                    let approach = match memory[k] {
-                        Some(m) if m.approach < 0.0 => un.min(m.approach),
-                        _ => un,
-                    };
+                    let approach = if memory[k].approach < 0.0 { un.min(memory[k].approach) } else { un };
                     let stopped = c.gap > 0.0 && approach < -eps_p && sol.normal[k] > 0.0 && !colliding_now[k];
                     // The speed at the touching gap: against a wall, gravity has sped the
                     // closing up over the gap (u² + 2aφ, exact for a body falling on the floor).
@@ -386,7 +383,23 @@ fn wall_approach(world: &World, wall: WallId, b: &Body) -> Real {
     }
 }
 
-/// Each contact's memory from the last step (`memory` sorted by key), or `None`.
-fn remembered<'a>(memory: &'a [WarmImpulse], contacts: &[Contact]) -> Vec<Option<&'a WarmImpulse>> {
-    contacts.iter().map(|c| memory.binary_search_by(|w| w.key.cmp(&c.key)).ok().map(|i| &memory[i])).collect()
+/// What a contact remembers of the last step: its forces (N) and pending approach (m/s).
+#[derive(Clone, Copy, Default)]
+struct Memory {
+    normal: Real,
+    friction: Vec3,
+    approach: Real,
+}
+
+/// Each contact's memory from the last step (`memory` sorted by key), by key. Matching a
+/// contact whose key changed to its pair's nearest remembered point instead was tried and made
+/// cylinder beds settle later (`docs/engine.md`, "Alternatives").
+fn remembered(memory: &[WarmImpulse], contacts: &[Contact]) -> Vec<Memory> {
+    contacts
+        .iter()
+        .map(|c| match memory.binary_search_by(|w| w.key.cmp(&c.key)) {
+            Ok(i) => Memory { normal: memory[i].normal, friction: memory[i].friction, approach: memory[i].approach },
+            Err(_) => Memory::default(),
+        })
+        .collect()
 }
