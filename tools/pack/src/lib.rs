@@ -150,6 +150,10 @@ pub struct Args {
     /// output on another machine and `pack --resume` goes on from its checkpoint.
     #[arg(long, value_name = "FILE", conflicts_with = "resume")]
     park: Option<String>,
+    /// Start over even when a killed run of this output (`<output>.part` or `<output>.resume`)
+    /// is there: without --resume or --force, pack refuses and keeps it.
+    #[arg(long, conflicts_with_all = ["resume", "park"])]
+    force: bool,
     /// No progress output.
     #[arg(short, long)]
     quiet: bool,
@@ -261,6 +265,11 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if output == "-" {
         bail!("pack writes its trajectory to a file (it is renamed into place when complete); give -o FILE");
     }
+    // The run writes <output>.part, .resume and .lock beside the output, and --park a copy.
+    let written =
+        ["", ".part", ".resume", ".lock"].into_iter().map(|suffix| ("-o".to_string(), format!("{output}{suffix}")));
+    let parked = args.park.iter().map(|p| ("--park".to_string(), p.clone()));
+    pellet_cli::refuse_overwriting_inputs(args.case.iter().chain([&config.pellet]), written.chain(parked))?;
     let pellet_bytes = pellet_io::read_input(&config.pellet)?;
     let pellet = pellet_io::decode_pellet(&pellet_bytes, &config.pellet)?.pellet;
 
@@ -284,8 +293,11 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         };
         let t = source.park(Path::new(park))?;
         let bytes = std::fs::metadata(park).map(|m| m.len()).unwrap_or(0);
-        println!("parked the run of {output} at its checkpoint t = {t:.3} s in {park} ({bytes} bytes); to go on, copy it to {output} and run pack --resume");
+        pellet_cli::print_stdout(&format!("parked the run of {output} at its checkpoint t = {t:.3} s in {park} ({bytes} bytes); to go on, copy it to {output} and run pack --resume\n"))?;
         return Ok(Outcome::Success);
+    }
+    if !args.resume && !args.force {
+        refuse_to_drop_a_killed_run(&output)?;
     }
     let source = if args.resume {
         resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?
@@ -355,7 +367,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     }
     match summary.ending {
         Ending::Settled => {
-            println!("settled at {:.4} s", summary.settle.settle_time_s.unwrap_or(summary.time_s));
+            let t = summary.settle.settle_time_s.unwrap_or(summary.time_s);
+            pellet_cli::print_stdout(&format!("settled at {t:.4} s\n"))?;
             Ok(Outcome::Success)
         }
         Ending::TimeLimit => bail!(
@@ -367,6 +380,20 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             bail!("interrupted at t = {:.3} s; the trajectory so far is in {output}", summary.time_s)
         }
     }
+}
+
+/// A killed run's `<output>.part` (or a killed resume's `.resume`) is the only copy of what it
+/// simulated; starting over would truncate it.
+fn refuse_to_drop_a_killed_run(output: &str) -> anyhow::Result<()> {
+    for suffix in [".part", ".resume"] {
+        let partial = format!("{output}{suffix}");
+        if Path::new(&partial).is_file() {
+            bail!(
+                "{partial} holds a killed run of {output}; add --resume to continue it, or remove it (or add --force) to start over"
+            );
+        }
+    }
+    Ok(())
 }
 
 /// How tall to draw the tube in the viewer (m): the fill height or the height of

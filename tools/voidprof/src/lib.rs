@@ -126,6 +126,12 @@ pub struct Measurement {
 
 /// Runs `voidprof`.
 pub fn run(args: Args) -> anyhow::Result<Outcome> {
+    let inputs = args.packings.iter().chain(&args.poses).chain(&args.pellet);
+    let singles = [("--summary", &args.summary), ("--axial", &args.axial), ("--spread", &args.spread)];
+    let outputs = std::iter::once(("-o".to_string(), args.output.clone()))
+        .chain(singles.iter().filter_map(|(f, p)| p.as_ref().map(|p| (f.to_string(), p.clone()))))
+        .chain(args.plot.iter().map(|p| ("--plot".to_string(), p.clone())));
+    pellet_cli::refuse_overwriting_inputs(inputs, outputs)?;
     let beds = read_beds(&args)?;
     let m = measure(&args, beds)?;
     let mut outputs = vec![OutputFile {

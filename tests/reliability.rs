@@ -1,0 +1,142 @@
+//! Bad input and faults: a full stdout, outputs that are inputs, a killed run's
+//! file, an unsettled bed in the default pipeline, impossible inputs.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+use pellet_tests::{bin, Scenario};
+
+/// A few spheres packed for 0.3 s (not settled): the trajectory, its last frame
+/// as a packing, and that bed's profile and summary.
+fn small_bed() -> Scenario {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "--faces", "500", "-o", "s.pellet"]).success();
+    let pack = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "3", "--max-time", "0.3", "--quiet"];
+    s.run("pack", &[&pack[..], &["-o", "b.mcap"]].concat()).code(2);
+    s.run("settle-check", &["b.mcap", "-o", "b.packing"]).code(1);
+    s.run("voidprof", &["b.packing", "--window", "0,10", "-o", "p.csv", "--summary", "v.json"]).success();
+    s
+}
+
+fn full() -> Stdio {
+    Stdio::from(std::fs::OpenOptions::new().write(true).open("/dev/full").expect("/dev/full"))
+}
+
+#[test]
+fn a_full_stdout_is_a_one_line_error_and_a_closed_one_is_quiet() {
+    let s = small_bed();
+    let cases: &[(&str, &[&str])] = &[
+        ("settle-check", &["b.mcap"]),
+        ("settle-check", &["b.mcap", "--json"]),
+        ("compare", &["--list-refs"]),
+        ("compare", &["--profile", "p.csv", "--summary", "v.json", "--ref", "mueller-1992", "-o", "r", "--no-plots"]),
+        ("bedexport", &["b.packing", "--csv", "e.csv"]),
+        ("mkpellet", &["info", "s.pellet"]),
+        ("pack", &["--help"]),
+        ("voidprof", &["--version"]),
+    ];
+    for (tool, args) in cases {
+        s.run_with_stdout(tool, args, full()).fails_with("No space left on device");
+    }
+    // A reader that went away (`| head`) ends the tool quietly with exit 0.
+    for (tool, args) in [("compare", "--list-refs"), ("settle-check", "b.mcap --json"), ("pack", "--help")] {
+        let script = format!("{{ {} {args}; echo $? > status; }} | true", bin(tool).display());
+        let out = Command::new("sh").args(["-c", &script]).current_dir(s.path()).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        let status = std::fs::read_to_string(s.file("status")).unwrap();
+        // settle-check's verdict (1: not settled) when its report fit in the pipe first.
+        assert!(["0", "1"].contains(&status.trim()), "{tool} {args} exited {status}: {err}");
+        assert!(tool == "settle-check" || status.trim() == "0", "{tool} {args} exited {status}: {err}");
+        assert!(!err.contains("panicked") && !err.contains("error"), "{tool} {args}: {err}");
+    }
+}
+
+/// Every tool refuses an output that is one of its inputs (by the same path, another path or a
+/// link) before writing anything, and the input is left as it was.
+#[test]
+fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
+    let s = small_bed();
+    std::os::unix::fs::symlink("b.packing", s.file("link.packing")).unwrap();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "--stl", "s.stl", "-o", "t.pellet"]).success();
+    let cases: &[(&str, &[&str], &str)] = &[
+        ("settle-check", &["b.mcap", "-o", "b.mcap"], "b.mcap"),
+        ("settle-check", &["b.mcap", "--csv", "./b.mcap"], "b.mcap"),
+        ("voidprof", &["b.packing", "-o", "b.packing"], "b.packing"),
+        ("voidprof", &["b.packing", "-o", "x.csv", "--summary", "link.packing"], "b.packing"),
+        (
+            "voidprof",
+            &["--poses", "p.csv", "--pellet", "s.pellet", "--tube-diameter", "30", "--plot", "s.pellet"],
+            "s.pellet",
+        ),
+        ("bedexport", &["b.packing", "--csv", "b.packing"], "b.packing"),
+        ("bedexport", &["link.packing", "--stl", "b.packing"], "b.packing"),
+        ("pack", &["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "3", "-o", "s.pellet"], "s.pellet"),
+        (
+            "pack",
+            &["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "3", "-o", "s", "--park", "s.pellet"],
+            "s.pellet",
+        ),
+        ("mkpellet", &["import", "s.stl", "-o", "s.stl"], "s.stl"),
+        ("mkpellet", &["info", "s.pellet", "--stl", "s.pellet"], "s.pellet"),
+        ("compare", &["--profile", "r/scores.csv", "--ref", "mueller-1992", "-o", "r"], "r/scores.csv"),
+    ];
+    std::fs::create_dir(s.file("r")).unwrap();
+    std::fs::copy(s.file("p.csv"), s.file("r/scores.csv")).unwrap();
+    for (tool, args, input) in cases {
+        let before = std::fs::read(s.file(input)).unwrap();
+        s.run(tool, args).fails_with("would destroy the input");
+        assert_eq!(std::fs::read(s.file(input)).unwrap(), before, "{tool} {args:?} changed {input}");
+    }
+}
+
+/// A killed run's `.part` is the only copy of what it simulated: the same pack without
+/// --resume refuses and keeps it; --force starts over.
+#[test]
+fn a_killed_runs_part_file_is_kept_unless_forced() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "--faces", "500", "-o", "s.pellet"]).success();
+    std::fs::write(s.file("k.mcap.part"), b"a killed run").unwrap();
+    let args = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "2", "--max-time", "0.1", "--quiet"];
+    s.run("pack", &[&args[..], &["-o", "k.mcap"]].concat()).fails_with("add --resume");
+    assert_eq!(std::fs::read(s.file("k.mcap.part")).unwrap(), b"a killed run");
+    let forced = s.run("pack", &[&args[..], &["-o", "k.mcap", "--force"]].concat());
+    assert!(forced.stderr().contains("did not settle within --max-time"), "{}", forced.stderr());
+    assert!(!s.file("k.mcap.part").exists() && s.file("k.mcap").exists());
+}
+
+fn default_make(s: &Scenario, bed_args: &str, target: &str) -> std::process::Output {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace root").to_path_buf();
+    let bin_dir = bin("pack").parent().expect("binary directory").to_path_buf();
+    Command::new("make")
+        .arg("--no-print-directory")
+        .arg("-f")
+        .arg(root.join("pipelines/default.mk"))
+        .arg(format!("BIN={}", bin_dir.display()))
+        .arg("OUT=out")
+        .arg(format!("BED_ARGS={bed_args}"))
+        .arg(target)
+        .current_dir(s.path())
+        .output()
+        .expect("run make (is GNU make installed?)")
+}
+
+/// A bed that did not settle never becomes a target of the default pipeline, however often
+/// make runs, and the next make resumes the run.
+#[test]
+fn the_default_pipeline_never_scores_an_unsettled_bed_and_resumes_its_pack() {
+    let s = Scenario::new();
+    let short = "--tube-diameter 40 --count 20 --seed 1 --max-time 0.3";
+    for _ in 0..2 {
+        let out = default_make(&s, short, "out/report/scores.json");
+        assert!(!out.status.success(), "make scored an unsettled bed");
+        for name in ["out/bed.mcap", "out/bed.packing", "out/profile.csv", "out/report/scores.json"] {
+            assert!(!s.file(name).exists(), "{name} made from an unsettled bed");
+        }
+    }
+    assert!(s.file("out/bed.run.mcap").exists(), "the unsettled run is kept for --resume");
+    let out = default_make(&s, "--tube-diameter 40 --count 20 --seed 1", "out/bed.packing");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("resuming at t = 0.3"), "{err}");
+    assert!(!s.file("out/bed.run.mcap").exists());
+}
