@@ -140,3 +140,37 @@ fn the_default_pipeline_never_scores_an_unsettled_bed_and_resumes_its_pack() {
     assert!(err.contains("resuming at t = 0.3"), "{err}");
     assert!(!s.file("out/bed.run.mcap").exists());
 }
+
+/// `voidprof --poses` refuses beds no tube could hold and says how many pellets overlap.
+#[test]
+fn voidprof_refuses_impossible_poses_and_warns_of_overlaps() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "--faces", "500", "-o", "s.pellet"]).success();
+    s.run("mkpellet", &["cylinder", "--diameter", "10", "--height", "10", "--faces", "500", "-o", "c.pellet"])
+        .success();
+    let voidprof = |pellet: &str, rows: &str, d: &str| {
+        std::fs::write(s.file("p.csv"), rows).unwrap();
+        s.run(
+            "voidprof",
+            &["--poses", "p.csv", "--pellet", pellet, "--tube-diameter", d, "--window", "0,10", "-o", "x.csv"],
+        )
+    };
+    voidprof("s.pellet", "1,100,0,5\n", "40").fails_with("pellet 1 at (100, 0, 5) mm reaches 105.000 mm from the axis");
+    voidprof("s.pellet", "1,0,0,5\n2,15.2,0,5\n", "40").fails_with("pellet 2 at (15.2, 0, 5) mm");
+    voidprof("s.pellet", "1,0,0,2\n", "40").fails_with("3.000 mm below the floor");
+    voidprof("s.pellet", "1,0,0,5\n", "5").fails_with("narrower than the pellet (10.0000 mm");
+    voidprof("c.pellet", "1,0,0,5,0.7071068,0.7071068,0,0\n", "40").success();
+    voidprof("c.pellet", "1,0,0,5,0.7071068,0.7071068,0,0\n", "9").fails_with("narrower than the pellet");
+    voidprof("s.pellet", "1,0,0,5\n2,10,0,5\n1,-10,0,5\n", "40").fails_with("line 3: id 1 is also on line 1");
+    // Within the 1 % tolerance: accepted without a word.
+    let ok = voidprof("s.pellet", "1,0,0,4.95\n2,15.05,0,5\n3,0,0,14.95\n", "40");
+    ok.success();
+    assert!(ok.stderr().is_empty(), "{}", ok.stderr());
+    let twice = voidprof("s.pellet", "1,0,0,5\n2,0,0,5\n3,10,0,5\n4,10,0,7\n", "40");
+    twice.success();
+    assert!(
+        twice.stderr().contains("2 pairs of pellets (4 pellets) overlap by more than 0.100 mm"),
+        "{}",
+        twice.stderr()
+    );
+}

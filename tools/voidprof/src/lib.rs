@@ -18,6 +18,7 @@ use pellet_geom::{Bed, Tube};
 use pellet_io::OutputFile;
 
 mod output;
+mod poses;
 
 const MM: f64 = 1e-3;
 
@@ -208,6 +209,13 @@ pub fn read_beds(args: &Args) -> anyhow::Result<Vec<(String, Bed)>> {
             pellets: poses,
         };
         bed.validate().with_context(|| poses_path.clone())?;
+        if bed.pellets.is_empty() {
+            bail!("{poses_path}: no pellet poses (the file holds no data rows)");
+        }
+        let (dp, _) = reference_diameters(&bed).with_context(|| poses_path.clone())?;
+        if let Some(warning) = poses::check(&bed, poses_path, dp)? {
+            eprintln!("voidprof: warning: {warning}");
+        }
         return Ok(vec![(poses_path.clone(), bed)]);
     }
     if args.packings.is_empty() {
