@@ -174,3 +174,88 @@ fn voidprof_refuses_impossible_poses_and_warns_of_overlaps() {
         twice.stderr()
     );
 }
+
+/// Errors say what is wrong in the user's terms, once, and `-q` means quiet.
+#[test]
+fn messages_name_the_problem_in_the_users_terms() {
+    let s = small_bed();
+    std::fs::write(s.file("x.jpg"), b"hi\n").unwrap();
+    s.run("mkpellet", &["sphere", "--diameter", "1e300", "-o", "x.pellet"])
+        .fails_with("--diameter must be between 0.001 and 10000 mm (got 1e300 mm)");
+    let plot = s.run("voidprof", &["b.packing", "--window", "0,10", "--plot", "x.jpg", "-o", "p2.csv"]);
+    plot.fails_with("x.jpg: unknown image type");
+    assert!(!plot.stderr().contains("x.jpg: x.jpg"), "{}", plot.stderr());
+    s.run("voidprof", &["b.packing", "--window", "0,10", "--plot", "nodir/p.png", "-o", "p2.csv"])
+        .fails_with("the directory nodir does not exist");
+    let stl = s.run("bedexport", &["b.packing", "--stl", "nodir/b.stl"]);
+    stl.fails_with("nodir/b.stl: the directory nodir does not exist; create it or give another path");
+    assert!(!stl.stderr().contains(".packbed-"), "{}", stl.stderr());
+    let mcap = std::fs::read(s.file("b.mcap")).unwrap();
+    std::fs::write(s.file("ten.mcap"), &mcap[..10]).unwrap();
+    s.run("settle-check", &["ten.mcap"]).fails_with("ten.mcap: truncated: the file ends within its MCAP header");
+    std::fs::write(s.file("c.toml"), "tube-diameter = 30\ncount = 3\ncor = \"x\"\n").unwrap();
+    s.run("pack", &["--case", "c.toml", "--pellet", "s.pellet", "-o", "c.mcap"]).fails_with("c.toml:3: bad TOML");
+    let pack = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "2", "--quiet", "-o", "t.mcap"];
+    s.run("pack", &[&pack[..], &["--max-time", "0.001"]].concat()).fails_with(
+        "--max-time must be a whole number of the 0.005 s engine steps (at least 0.005 s; got 0.001 s): give 0.005",
+    );
+    let quiet = s.run("bedexport", &["b.packing", "--csv", "e.csv", "-q"]);
+    quiet.success();
+    assert!(quiet.stdout().is_empty() && quiet.stderr().is_empty(), "{}{}", quiet.stdout(), quiet.stderr());
+}
+
+/// `--record-every` finer than the engine's 5 ms step would be rounded up: refused, naming
+/// the allowed values; a multiple of the step is honoured.
+#[test]
+fn record_every_is_honoured_or_refused() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "--faces", "500", "-o", "s.pellet"]).success();
+    let pack = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "2", "--max-time", "0.1", "--quiet"];
+    s.run("pack", &[&pack[..], &["--record-every", "0.001", "-o", "a.mcap"]].concat()).fails_with(
+        "--record-every must be a whole number of the 0.005 s engine steps (at least 0.005 s; got 0.001 s): give 0.005",
+    );
+    s.run("pack", &[&pack[..], &["--record-every", "0.012", "-o", "a.mcap"]].concat()).fails_with("give 0.01 or 0.015");
+    s.run("pack", &[&pack[..], &["--record-every", "0.005", "-o", "a.mcap"]].concat()).code(2);
+    let t = pellet_io::read_trajectory(&std::fs::read(s.file("a.mcap")).unwrap(), "a").unwrap();
+    let gaps: Vec<f64> = t.frames.windows(2).map(|w| w[1].time_s - w[0].time_s).collect();
+    assert!(gaps.len() >= 15 && gaps.iter().all(|g| (g - 0.005).abs() < 1e-9), "{gaps:?}");
+}
+
+/// An STL far from the origin has lost its shape to single precision: refused. The same far
+/// mesh as OBJ (double precision) imports with the shape of the near one; absurd sizes are refused.
+#[test]
+fn mkpellet_import_keeps_precision_or_refuses() {
+    let s = Scenario::new();
+    s.run("mkpellet", &["sphere", "--diameter", "10", "--obj", "near.obj", "-o", "near.pellet"]).success();
+    let obj = std::fs::read_to_string(s.file("near.obj")).unwrap();
+    let far: String = obj
+        .lines()
+        .map(|l| match l.strip_prefix("v ") {
+            Some(xyz) => {
+                let c: Vec<f64> = xyz.split_whitespace().map(|v| v.parse().unwrap()).collect();
+                format!("v {} {} {}\n", c[0] + 1e7, c[1], c[2])
+            }
+            None => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(s.file("far.obj"), far).unwrap();
+    let pellet = pellet_io::decode_pellet(&std::fs::read(s.file("near.pellet")).unwrap(), "near").unwrap().pellet;
+    let mut mesh = pellet.mesh.clone();
+    mesh.translate(&pellet_geom::math::Vector::new(1e4, 0.0, 0.0));
+    std::fs::write(s.file("far.stl"), pellet_io::stl_bytes(&mesh, 1e3).unwrap()).unwrap();
+    let mut huge = pellet.mesh.clone();
+    huge.scale(1e30);
+    std::fs::write(s.file("huge.stl"), pellet_io::stl_bytes(&huge, 1e3).unwrap()).unwrap();
+
+    s.run("mkpellet", &["import", "far.stl", "-o", "f.pellet"]).fails_with("STL's single precision resolves only");
+    s.run("mkpellet", &["import", "huge.stl", "-o", "h.pellet"]).fails_with("a pellet must be 0.001 to 10000 mm");
+    s.run("mkpellet", &["import", "far.obj", "-o", "f.pellet"]).success();
+    let info = |name: &str| -> serde_json::Value {
+        serde_json::from_str(&s.run("mkpellet", &["info", name, "--json"]).stdout()).unwrap()
+    };
+    let (near, far) = (info("near.pellet"), info("f.pellet"));
+    for key in ["sphericity", "volume_mm3", "area_mm2"] {
+        let (a, b) = (near[key].as_f64().unwrap(), far[key].as_f64().unwrap());
+        assert!((a / b - 1.0).abs() < 1e-6, "{key}: near {a}, far {b}");
+    }
+}

@@ -77,14 +77,20 @@ pub fn main<A: Parser>(tool: &str, run: impl FnOnce(A) -> anyhow::Result<Outcome
 /// (`path: reason`, with the reason also as the source) printed it twice.
 pub fn one_line(e: &anyhow::Error) -> String {
     let mut line = String::new();
+    // Where the last message starts: a cause that begins with it (a context that is just the
+    // path, over an error that starts with the path) replaces it.
+    let mut last = 0;
     for cause in e.chain() {
         let text = cause.to_string().replace('\n', " ");
         if line.ends_with(&text) {
             continue;
         }
-        if !line.is_empty() {
+        if !line.is_empty() && text.starts_with(&line[last..]) {
+            line.truncate(last);
+        } else if !line.is_empty() {
             line.push_str(": ");
         }
+        last = line.len();
         line.push_str(&text);
     }
     line
@@ -157,6 +163,12 @@ mod tests {
         let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory");
         let e = anyhow::Error::new(WithPath(io)).context("reading the pellet");
         assert_eq!(one_line(&e), "reading the pellet: bed.pellet: No such file or directory");
+    }
+
+    #[test]
+    fn a_context_that_the_cause_starts_with_is_not_repeated() {
+        let e = anyhow::anyhow!("x.jpg: unknown image type").context("x.jpg").context("plotting");
+        assert_eq!(one_line(&e), "plotting: x.jpg: unknown image type");
     }
 
     #[test]

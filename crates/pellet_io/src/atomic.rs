@@ -59,6 +59,11 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
             _ => Path::new("."),
         };
         let io = |source| IoError::Io { path: out.path.clone(), source };
+        // Checked first: the temporary file's error would name the temporary file instead.
+        if !dir.is_dir() {
+            let why = format!("the directory {} does not exist; create it or give another path", dir.display());
+            return Err(io(std::io::Error::new(std::io::ErrorKind::NotFound, why)));
+        }
         let mut builder = tempfile::Builder::new();
         builder.prefix(".packbed-").suffix(".tmp");
         // Temporary files are private (0600); an output is not: ask for

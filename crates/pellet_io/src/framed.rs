@@ -62,7 +62,7 @@ impl Format {
         let (value, used): (T, usize) =
             bincode::serde::decode_from_slice(&bytes[12..], config()).map_err(|e| IoError::Corrupt {
                 path: path.into(),
-                reason: format!("truncated or corrupt {} file ({e}); {}", self.kind, self.remedy),
+                reason: format!("the {} file {}; {}", self.kind, what_is_wrong(&e), self.remedy),
             })?;
         if used != bytes.len() - 12 {
             return Err(IoError::Corrupt {
@@ -71,5 +71,17 @@ impl Format {
             });
         }
         Ok(value)
+    }
+}
+
+/// A decoding error in the reader's terms: the decoder's own names (`UnexpectedEnd`,
+/// `LimitExceeded`) mean nothing to someone holding a damaged file.
+fn what_is_wrong(e: &bincode::error::DecodeError) -> &'static str {
+    use bincode::error::DecodeError as E;
+    match e {
+        E::UnexpectedEnd { .. } => "is truncated (its data ends early)",
+        E::LimitExceeded | E::OutsideUsizeRange(_) => "is corrupt (a length in it is impossibly large)",
+        E::Utf8 { .. } | E::InvalidCharEncoding(_) => "is corrupt (a text in it is not UTF-8)",
+        _ => "is corrupt (its data does not decode)",
     }
 }

@@ -119,3 +119,30 @@ fn a_trajectory_to_a_fifo_is_written_in_place() {
     assert_eq!(t.frames.len(), 1);
     assert_eq!(t.frames[0].time_s, 0.5);
 }
+
+/// A trajectory cut inside its first records (a run killed at once) says it is truncated.
+#[test]
+fn a_trajectory_cut_in_its_header_is_reported_truncated() {
+    use pellet_geom::Tube;
+    use pellet_io::{read_trajectory, TrajectoryHeader, TrajectoryWriter};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run.mcap");
+    let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
+    let files = [encode_pellet(&file(ShapeSpec::Sphere { diameter_mm: 10.0 })).unwrap()];
+    let tube = Tube { diameter: 0.04, lid_height: None };
+    let header = TrajectoryHeader {
+        provenance: &provenance,
+        config_json: "{}",
+        seed: 1,
+        build: "git test",
+        pellet_files: &files,
+        tube: &tube,
+    };
+    TrajectoryWriter::create(&path, &header).unwrap().finish().unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    for cut in [10, 12, 20] {
+        let Err(e) = read_trajectory(&bytes[..cut], "cut.mcap") else { panic!("cut at {cut} read") };
+        let e = e.to_string();
+        assert!(e.contains("truncated: the file ends within its MCAP header"), "cut at {cut}: {e}");
+    }
+}

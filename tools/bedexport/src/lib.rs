@@ -135,7 +135,7 @@ pub struct Args {
     /// Gap (mm) below which --shrink counts a contact as opened [default: dp/100].
     #[arg(long, value_name = "MM")]
     pub contact_gap: Option<f64>,
-    /// No progress on stderr.
+    /// Print nothing but errors: no progress on stderr, no summary.
     #[arg(short, long)]
     pub quiet: bool,
 }
@@ -375,6 +375,9 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         files,
     };
     let text = summary::text(&exported);
+    if args.quiet {
+        return Ok(Outcome::Success);
+    }
     if paths.iter().any(|p| p.as_str() == "-") {
         eprint!("{text}");
     } else {

@@ -98,7 +98,7 @@ pub struct Args {
     /// Shortest time between two pellets entering (s) [default: 0.02].
     #[arg(long, value_name = "S")]
     spacing: Option<f64>,
-    /// Interval between recorded pose frames (s) [default: 0.01].
+    /// Interval between recorded pose frames (s; a whole number of the 0.005 s engine steps) [default: 0.01].
     #[arg(long, value_name = "S")]
     record_every: Option<f64>,
     /// Record pellet velocities in the pose frames.
@@ -122,7 +122,7 @@ pub struct Args {
     /// recommended, zero for paper].
     #[arg(long, value_enum)]
     friction_clamp: Option<ClampArg>,
-    /// Simulated time limit (s) [default: 120].
+    /// Simulated time limit (s; a whole number of the 0.005 s engine steps) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
     /// Settle-test window (s) [default: 0.15].
