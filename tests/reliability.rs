@@ -276,3 +276,34 @@ fn a_tiny_bed_at_rest_settles() {
         assert!(v["final_max_speed_m_s"].as_f64().unwrap() < 1e-4, "{n} pellets: {v}");
     }
 }
+
+/// Ctrl-C while bedexport writes a large voxel grid removes its temporary files and leaves the
+/// outputs as they were.
+#[test]
+fn an_interrupted_export_leaves_no_temporary_files() {
+    let s = small_bed();
+    let mut child = Command::new(bin("bedexport"))
+        .args(["b.packing", "--voxels", "big.raw", "--voxels-per-dp", "150", "-q"])
+        .current_dir(s.path())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let temporary = || {
+        std::fs::read_dir(s.path()).unwrap().any(|e| e.unwrap().file_name().to_string_lossy().starts_with(".packbed-"))
+    };
+    let start = std::time::Instant::now();
+    while !temporary() && child.try_wait().unwrap().is_none() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    if child.try_wait().unwrap().is_some() {
+        // Written before a temporary file was seen: nothing to interrupt on this machine.
+        return;
+    }
+    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("bedexport: error: interrupted"), "{err}");
+    assert!(!temporary(), "a temporary file was left behind");
+    assert!(!s.file("big.raw").exists() && !s.file("big.raw.json").exists());
+}

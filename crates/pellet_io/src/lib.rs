@@ -92,7 +92,7 @@ mod pellet_file;
 mod poses_csv;
 mod trajectory;
 
-pub use atomic::{is_special_file, read_input, write_outputs, OutputFile};
+pub use atomic::{is_special_file, read_input, remove_temporary_files_on_signal, write_outputs, OutputFile};
 pub use mesh_files::{obj_bytes, read_mesh, stl_bytes, MeshFormat};
 pub use packing_file::{
     decode_packing, encode_packing, PackingFile, SettleVerdict, PACKING_FORMAT_VERSION, PACKING_MAGIC,
