@@ -33,6 +33,13 @@ fn every_truncation_is_an_error_not_a_panic() {
     for cut in [0, 7, 11, 12, 100, bytes.len() / 3, bytes.len() - 1] {
         assert!(decode_pellet(&bytes[..cut], "cut").is_err(), "cut at {cut} decoded");
     }
+    // Damage reads in words: a cut file is truncated, a wild length prefix corrupt.
+    let cut = decode_pellet(&bytes[..bytes.len() / 2], "cut.pellet").unwrap_err().to_string();
+    assert!(cut.contains("cut.pellet: the pellet file is truncated (its data ends early)"), "{cut}");
+    let mut wild = bytes.clone();
+    wild[12..20].copy_from_slice(&u64::MAX.to_le_bytes());
+    let wild = decode_pellet(&wild, "w.pellet").unwrap_err().to_string();
+    assert!(wild.contains("is corrupt (a length in it is impossibly large)") && !wild.contains("Limit"), "{wild}");
     let mut extended = bytes.clone();
     extended.push(0);
     assert!(decode_pellet(&extended, "long").unwrap_err().to_string().contains("unexpected bytes"));
