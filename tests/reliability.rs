@@ -307,3 +307,36 @@ fn an_interrupted_export_leaves_no_temporary_files() {
     assert!(!temporary(), "a temporary file was left behind");
     assert!(!s.file("big.raw").exists() && !s.file("big.raw.json").exists());
 }
+
+/// The tools refuse a pellet or packing file with a changed byte, and read one of the format
+/// before checksums with a note.
+#[test]
+fn damaged_files_fail_their_checksum_and_old_ones_read_with_a_note() {
+    let s = small_bed();
+    let bytes = std::fs::read(s.file("s.pellet")).unwrap();
+    let pellet = pellet_io::decode_pellet(&bytes, "s").unwrap().pellet;
+    let x = pellet.mesh.vertices[3].x.to_le_bytes();
+    let at = bytes.windows(8).position(|w| w == x).unwrap();
+    let mut flipped = bytes.clone();
+    flipped[at + 2] ^= 0x01;
+    std::fs::write(s.file("f.pellet"), &flipped).unwrap();
+    s.run("mkpellet", &["info", "f.pellet"]).fails_with("f.pellet: the pellet file's checksum does not match");
+    let packing = std::fs::read(s.file("b.packing")).unwrap();
+    let mut damaged = packing.clone();
+    let mid = damaged.len() / 2;
+    damaged[mid] ^= 0x01;
+    std::fs::write(s.file("d.packing"), &damaged).unwrap();
+    let out = s.run("voidprof", &["d.packing", "--window", "0,10", "-o", "d.csv"]);
+    out.code(2);
+    assert!(out.stderr().contains("d.packing: the packing file"), "{}", out.stderr());
+    let mut old = bytes[..bytes.len() - 4].to_vec();
+    old[8..12].copy_from_slice(&1u32.to_le_bytes());
+    std::fs::write(s.file("old.pellet"), &old).unwrap();
+    let info = s.run("mkpellet", &["info", "old.pellet"]);
+    info.success().stdout_has("sphere");
+    assert!(
+        info.stderr().contains("mkpellet: note: old.pellet: a pellet file of format version 1"),
+        "{}",
+        info.stderr()
+    );
+}

@@ -153,3 +153,27 @@ fn a_trajectory_cut_in_its_header_is_reported_truncated() {
         assert!(e.contains("truncated: the file ends within its MCAP header"), "cut at {cut}: {e}");
     }
 }
+
+/// A byte changed in a pellet's vertex data is found by the checksum; a file of the format
+/// before checksums (version 1: no trailing CRC) still reads.
+#[test]
+fn a_changed_byte_fails_the_checksum_and_old_files_still_read() {
+    let original = file(ShapeSpec::Sphere { diameter_mm: 10.0 });
+    let bytes = encode_pellet(&original).unwrap();
+    let x = original.pellet.mesh.vertices[10].x.to_le_bytes();
+    let at = bytes.windows(8).position(|w| w == x).expect("a vertex's bytes in the file");
+    let mut flipped = bytes.clone();
+    flipped[at + 3] ^= 0x10;
+    let e = decode_pellet(&flipped, "f.pellet").unwrap_err().to_string();
+    assert!(e.contains("f.pellet: the pellet file's checksum does not match its contents"), "{e}");
+    let mut crc = bytes.clone();
+    let n = crc.len();
+    crc[n - 1] ^= 1;
+    assert!(decode_pellet(&crc, "c.pellet").unwrap_err().to_string().contains("checksum"));
+    let mut old = bytes[..bytes.len() - 4].to_vec();
+    old[8..12].copy_from_slice(&1u32.to_le_bytes());
+    assert_eq!(decode_pellet(&old, "old.pellet").unwrap(), original);
+    let mut future = bytes.clone();
+    future[8..12].copy_from_slice(&3u32.to_le_bytes());
+    assert!(decode_pellet(&future, "new.pellet").unwrap_err().to_string().contains("format version 3"));
+}
