@@ -76,6 +76,11 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
             &["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "3", "-o", "s", "--park", "s.pellet"],
             "s.pellet",
         ),
+        (
+            "pack",
+            &["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "3", "-o", "b.mcap", "--park", "b.mcap"],
+            "b.mcap",
+        ),
         ("mkpellet", &["import", "s.stl", "-o", "s.stl"], "s.stl"),
         ("mkpellet", &["info", "s.pellet", "--stl", "s.pellet"], "s.pellet"),
         ("compare", &["--profile", "r/scores.csv", "--ref", "mueller-1992", "-o", "r"], "r/scores.csv"),

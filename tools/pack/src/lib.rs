@@ -270,7 +270,10 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let written =
         ["", ".part", ".resume", ".lock"].into_iter().map(|suffix| ("-o".to_string(), format!("{output}{suffix}")));
     let parked = args.park.iter().map(|p| ("--park".to_string(), p.clone()));
-    pellet_cli::refuse_overwriting_inputs(args.case.iter().chain([&config.pellet]), written.chain(parked))?;
+    pellet_cli::refuse_overwriting_inputs(args.case.iter().chain([&config.pellet]), written.chain(parked.clone()))?;
+    // --park reads the partial run it copies.
+    let runs = ["", ".part", ".resume"].map(|suffix| format!("{output}{suffix}"));
+    pellet_cli::refuse_overwriting_inputs(&runs, parked)?;
     let pellet_bytes = pellet_io::read_input(&config.pellet)?;
     let pellet = pellet_io::decode_pellet(&pellet_bytes, &config.pellet)?.pellet;
 
