@@ -140,9 +140,17 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
 mod tests {
     use std::os::unix::fs::{FileTypeExt, PermissionsExt};
 
+    /// The temporaries are one list for the process: the test that empties it runs alone.
+    static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+    fn serial() -> std::sync::MutexGuard<'static, ()> {
+        SERIAL.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
     /// An output that is a FIFO (or a device such as /dev/null) is written into, not replaced.
     #[test]
     fn a_fifo_output_is_written_in_place() {
+        let _serial = serial();
         let dir = tempfile::tempdir().unwrap();
         let fifo = dir.path().join("pipe");
         assert!(std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
@@ -163,6 +171,7 @@ mod tests {
     /// What the signal handler does: the temporary files in progress go, and nothing else.
     #[test]
     fn the_temporaries_in_progress_are_removed() {
+        let _serial = serial();
         let dir = tempfile::tempdir().unwrap();
         let (tmp, kept) = (dir.path().join(".packbed-x.tmp"), dir.path().join("out.csv"));
         std::fs::write(&tmp, b"partial").unwrap();
@@ -175,6 +184,7 @@ mod tests {
 
     #[test]
     fn outputs_get_the_permissions_of_any_new_file() {
+        let _serial = serial();
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out.bin").display().to_string();
         super::write_outputs(&[super::OutputFile {
