@@ -9,8 +9,12 @@ OUT ?= out
 PELLETS := $(OUT)/sphere.pellet $(OUT)/cylinder.pellet $(OUT)/ring.pellet
 # 40 spheres of 10 mm in a 40 mm tube (N = 4): settles in about 2 s of
 # simulated time; the profile is counted over the bottom 25 mm of the bed.
-BED_ARGS := --tube-diameter 40 --count 40 --seed 1
-WINDOW := 0,25
+BED_ARGS ?= --tube-diameter 40 --count 40 --seed 1
+WINDOW ?= 0,25
+
+# A recipe that fails leaves no target behind: settle-check exits 1 on a bed
+# that did not settle, after writing its last frame, which must not be scored.
+.DELETE_ON_ERROR:
 
 .PHONY: all pellets
 all: pellets $(OUT)/report/scores.json $(OUT)/bed.stl
@@ -34,8 +38,12 @@ $(OUT)/cylinder.pellet: $(BIN)/mkpellet | $(OUT)
 $(OUT)/ring.pellet: $(BIN)/mkpellet | $(OUT)
 	$(BIN)/mkpellet ring --outer-diameter 10 --inner-diameter 6 --height 10 -o $@ --stl $(OUT)/ring.stl
 
+# pack runs on bed.run.mcap, renamed only once the bed settled (exit 0): an
+# interrupted or killed run, or one past its --max-time, stays there for the
+# next make's --resume instead of becoming bed.mcap.
 $(OUT)/bed.mcap: $(OUT)/sphere.pellet $(BIN)/pack
-	$(BIN)/pack --pellet $< $(BED_ARGS) -o $@
+	$(BIN)/pack --pellet $< $(BED_ARGS) -o $(OUT)/bed.run.mcap --resume
+	mv $(OUT)/bed.run.mcap $@
 
 $(OUT)/bed.packing: $(OUT)/bed.mcap $(BIN)/settle-check
 	$(BIN)/settle-check $< -o $@ --csv $(OUT)/poses.csv

@@ -89,7 +89,7 @@ $(CASES)/%.toml: $(TABLE) $(HERE)/case.awk | $(CASES)
 	awk -F, -v id=$* -f $(HERE)/case.awk $(TABLE) > $@.tmp
 	if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
 
-# pack exits 2 when --max-time is reached before the bed settles; the
+# pack exits 1 when --max-time is reached before the bed settles; the
 # trajectory is complete then and kept (settle-check reports it unsettled).
 # Any other failure (an interrupt, a kill) fails the recipe and leaves the
 # run to `pack --resume`: the next `make` goes on from its last checkpoint,

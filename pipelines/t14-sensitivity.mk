@@ -67,7 +67,7 @@ $(OUT):
 $(OUT)/sphere.pellet: | $(OUT)
 	$(BIN)/mkpellet sphere --diameter 10 -o $@
 
-# pack exits 2 when --max-time ends the run before the bed settles (the paper
+# pack exits 1 when --max-time ends the run before the bed settles (the paper
 # variant); the trajectory is complete then, and settle-check says so.
 $(OUT)/%/bed.mcap: $(OUT)/sphere.pellet
 	mkdir -p $(@D)

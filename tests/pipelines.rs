@@ -2,6 +2,8 @@
 
 #[path = "paper.rs"]
 mod paper;
+#[path = "reliability.rs"]
+mod reliability;
 
 use pellet_tests::Scenario;
 

@@ -57,6 +57,19 @@ impl Scenario {
         self.run_with_stdin(tool, args, None)
     }
 
+    /// Runs a tool with its stdout sent to `stdout` (e.g. `/dev/full`) instead of captured.
+    pub fn run_with_stdout(&self, tool: &str, args: &[&str], stdout: Stdio) -> Run {
+        let output = Command::new(bin(tool))
+            .args(args)
+            .current_dir(self.path())
+            .stdin(Stdio::null())
+            .stdout(stdout)
+            .stderr(Stdio::piped())
+            .output()
+            .expect("run tool");
+        Run { command: format!("{tool} {}", args.join(" ")), output }
+    }
+
     /// Runs a tool feeding `stdin` to it.
     pub fn run_with_stdin(&self, tool: &str, args: &[&str], stdin: Option<&[u8]>) -> Run {
         use std::io::Write;

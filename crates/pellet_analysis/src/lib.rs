@@ -46,7 +46,7 @@ pub mod synthetic;
 pub use average::{average_profiles, ProfileStats};
 pub use line::{Geometry, LineCaster};
 pub use profile::{check_window, void_profile, AxialProfile, ProfileParams, VoidProfile};
-pub use structure::{coordination, orientation, Coordination, OrientationHistogram};
+pub use structure::{coordination, orientation, overlapping_pairs, Coordination, OrientationHistogram};
 
 use pellet_geom::math::Real;
 use pellet_geom::{Bed, ClosedForm, Pellet, PlacedPellet, ShapeSpec};

@@ -23,35 +23,12 @@ pub struct Coordination {
 /// an edge-to-edge contact between vertices can be missed by up to the
 /// vertex spacing. `None` for shapes without a closed form.
 pub fn coordination(bed: &Bed, window: (Real, Real), gap: Real) -> Option<Coordination> {
-    if bed.pellet_types.iter().any(|p| p.closed_form.is_none()) {
-        return None;
-    }
     let n = bed.pellets.len();
-    let reach: Vec<Real> = bed
-        .pellets
-        .iter()
-        .map(|p| bed.pellet_types[p.type_index as usize].closed_form.map_or(0.0, |c| c.bounding_radius()))
-        .collect();
     let mut contacts = vec![0usize; n];
-    // Sort along z so that only pellets within reach in z are compared.
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&a, &b| bed.pellets[a].position[2].total_cmp(&bed.pellets[b].position[2]));
-    let max_reach = reach.iter().copied().fold(0.0, Real::max);
-    for (oi, &i) in order.iter().enumerate() {
-        for &j in &order[oi + 1..] {
-            let (pi, pj) = (&bed.pellets[i], &bed.pellets[j]);
-            if pj.position[2] - pi.position[2] > 2.0 * max_reach + gap {
-                break;
-            }
-            if (pi.centre() - pj.centre()).norm() > reach[i] + reach[j] + gap {
-                continue;
-            }
-            if touching(bed, i, j, gap) {
-                contacts[i] += 1;
-                contacts[j] += 1;
-            }
-        }
-    }
+    for_pairs_within(bed, gap, |i, j| {
+        contacts[i] += 1;
+        contacts[j] += 1;
+    })?;
     let counted: Vec<usize> =
         (0..n).filter(|&i| (window.0..window.1).contains(&bed.pellets[i].position[2])).map(|i| contacts[i]).collect();
     let max = counted.iter().copied().max().unwrap_or(0);
@@ -61,6 +38,53 @@ pub fn coordination(bed: &Bed, window: (Real, Real), gap: Real) -> Option<Coordi
     Some(Coordination { mean, pellets: counted.len(), histogram, gap })
 }
 
+/// Pairs of pellets that overlap by more than `depth` (m), measured as in [`coordination`]
+/// (a surface gap below −`depth`), and the pellets in at least one such pair. `None` for
+/// shapes without a closed form.
+pub fn overlapping_pairs(bed: &Bed, depth: Real) -> Option<(usize, usize)> {
+    let mut pairs = 0;
+    let mut involved = vec![false; bed.pellets.len()];
+    for_pairs_within(bed, -depth, |i, j| {
+        pairs += 1;
+        involved[i] = true;
+        involved[j] = true;
+    })?;
+    Some((pairs, involved.iter().filter(|&&b| b).count()))
+}
+
+/// Calls `f(i, j)` for every pair whose surface gap is below `gap` (m, negative: an
+/// overlap); `None` for shapes without a closed form.
+fn for_pairs_within(bed: &Bed, gap: Real, mut f: impl FnMut(usize, usize)) -> Option<()> {
+    if bed.pellet_types.iter().any(|p| p.closed_form.is_none()) {
+        return None;
+    }
+    let n = bed.pellets.len();
+    let reach: Vec<Real> = bed
+        .pellets
+        .iter()
+        .map(|p| bed.pellet_types[p.type_index as usize].closed_form.map_or(0.0, |c| c.bounding_radius()))
+        .collect();
+    // Sort along z so that only pellets within reach in z are compared.
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| bed.pellets[a].position[2].total_cmp(&bed.pellets[b].position[2]));
+    let max_reach = reach.iter().copied().fold(0.0, Real::max);
+    for (oi, &i) in order.iter().enumerate() {
+        for &j in &order[oi + 1..] {
+            let (pi, pj) = (&bed.pellets[i], &bed.pellets[j]);
+            if pj.position[2] - pi.position[2] > 2.0 * max_reach + gap.max(0.0) {
+                break;
+            }
+            if (pi.centre() - pj.centre()).norm() > reach[i] + reach[j] + gap.max(0.0) {
+                continue;
+            }
+            if touching(bed, i, j, gap) {
+                f(i, j);
+            }
+        }
+    }
+    Some(())
+}
+
 fn touching(bed: &Bed, i: usize, j: usize, gap: Real) -> bool {
     let (pi, pj) = (&bed.pellets[i], &bed.pellets[j]);
     let (ti, tj) = (&bed.pellet_types[pi.type_index as usize], &bed.pellet_types[pj.type_index as usize]);
@@ -68,8 +92,9 @@ fn touching(bed: &Bed, i: usize, j: usize, gap: Real) -> bool {
     if let (ClosedForm::Sphere { radius: a }, ClosedForm::Sphere { radius: b }) = (ci, cj) {
         return (pi.centre() - pj.centre()).norm() - a - b < gap;
     }
+    // The other's centroid too: two coincident pellets have no vertex inside each other.
     let near = |shape: &ClosedForm, pose: &pellet_geom::PlacedPellet, other: &pellet_geom::Pellet, other_pose| {
-        other.mesh.vertices.iter().any(|v: &Point| {
+        other.mesh.vertices.iter().chain([&Point::origin()]).any(|v: &Point| {
             let world = pellet_geom::PlacedPellet::to_world(other_pose, v);
             shape.signed_distance(&pose.to_body(&world)) < gap
         })
@@ -138,6 +163,16 @@ mod tests {
                 .map(|p| PlacedPellet { type_index: 0, position: p.map(|c| c * 1e-3), orientation })
                 .collect(),
         }
+    }
+
+    #[test]
+    fn overlaps_deeper_than_the_depth_are_counted_and_contacts_are_not() {
+        let upright = [1.0, 0.0, 0.0, 0.0];
+        // Touching face to face, coincident (no vertex inside the other), 1 mm deep.
+        let b =
+            bed(&[[0.0, 0.0, 5.0], [0.0, 0.0, 15.0], [20.0, 0.0, 5.0], [20.0, 0.0, 5.0], [0.0, 0.0, 24.0]], upright);
+        assert_eq!(overlapping_pairs(&b, 1e-4), Some((2, 4)));
+        assert_eq!(overlapping_pairs(&b, 2e-3), Some((1, 2)));
     }
 
     #[test]

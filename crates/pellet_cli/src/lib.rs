@@ -8,10 +8,16 @@
 //!
 //! Errors are printed once, here, as `tool: error: message` on one line
 //! (causes joined with `: `). A closed stdout (broken pipe) ends the tool
-//! quietly with exit 0. Results go to stdout; diagnostics and progress to stderr.
+//! quietly with exit 0; any other failure to write stdout (a full disk) is an
+//! error. Results go to stdout ([`print_stdout`]); diagnostics and progress to stderr.
 #![deny(missing_docs)]
 
+use std::io::Write;
 use std::process::ExitCode;
+
+mod same_file;
+
+pub use same_file::refuse_overwriting_inputs;
 
 use clap::Parser;
 
@@ -40,9 +46,19 @@ pub fn main<A: Parser>(tool: &str, run: impl FnOnce(A) -> anyhow::Result<Outcome
     let args = match A::try_parse() {
         Ok(a) => a,
         Err(e) => {
-            // --help and --version are successes; usage errors exit 2.
-            let _ = e.print();
-            return if e.use_stderr() { ExitCode::from(EXIT_ERROR) } else { ExitCode::SUCCESS };
+            // --help and --version are successes, unless their text could not be written;
+            // usage errors exit 2.
+            let printed = e.print().and_then(|()| std::io::stdout().flush());
+            if e.use_stderr() {
+                return ExitCode::from(EXIT_ERROR);
+            }
+            return match printed {
+                Err(io) if io.kind() != std::io::ErrorKind::BrokenPipe => {
+                    eprintln!("{tool}: error: {}", one_line(&stdout_error(io)));
+                    ExitCode::from(EXIT_ERROR)
+                }
+                _ => ExitCode::SUCCESS,
+            };
         }
     };
     match run(args) {
@@ -61,17 +77,34 @@ pub fn main<A: Parser>(tool: &str, run: impl FnOnce(A) -> anyhow::Result<Outcome
 /// (`path: reason`, with the reason also as the source) printed it twice.
 pub fn one_line(e: &anyhow::Error) -> String {
     let mut line = String::new();
+    // Where the last message starts: a cause that begins with it (a context that is just the
+    // path, over an error that starts with the path) replaces it.
+    let mut last = 0;
     for cause in e.chain() {
         let text = cause.to_string().replace('\n', " ");
         if line.ends_with(&text) {
             continue;
         }
-        if !line.is_empty() {
+        if !line.is_empty() && text.starts_with(&line[last..]) {
+            line.truncate(last);
+        } else if !line.is_empty() {
             line.push_str(": ");
         }
+        last = line.len();
         line.push_str(&text);
     }
     line
+}
+
+/// Writes a tool's text result to stdout and flushes it. Unlike `print!`, which panics, a
+/// failed write is returned as an error for [`main`] to report (a broken pipe ends quietly).
+pub fn print_stdout(text: &str) -> anyhow::Result<()> {
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes()).and_then(|()| out.flush()).map_err(stdout_error)
+}
+
+fn stdout_error(e: std::io::Error) -> anyhow::Error {
+    anyhow::Error::new(e).context("cannot write the result to stdout (redirect it to a file with space, or pipe it on)")
 }
 
 fn is_broken_pipe(e: &anyhow::Error) -> bool {
@@ -130,6 +163,12 @@ mod tests {
         let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory");
         let e = anyhow::Error::new(WithPath(io)).context("reading the pellet");
         assert_eq!(one_line(&e), "reading the pellet: bed.pellet: No such file or directory");
+    }
+
+    #[test]
+    fn a_context_that_the_cause_starts_with_is_not_repeated() {
+        let e = anyhow::anyhow!("x.jpg: unknown image type").context("x.jpg").context("plotting");
+        assert_eq!(one_line(&e), "plotting: x.jpg: unknown image type");
     }
 
     #[test]

@@ -70,7 +70,7 @@ impl Bed {
     /// Checks indices, unit quaternions and finite coordinates.
     pub fn validate(&self) -> Result<(), GeomError> {
         if !(self.tube.diameter.is_finite() && self.tube.diameter > 0.0) {
-            return Err(GeomError::BadParameter(format!("tube diameter {} m is not > 0", self.tube.diameter)));
+            return Err(GeomError::BadParameter(format!("tube diameter {} mm is not > 0", self.tube.diameter * 1e3)));
         }
         for (i, p) in self.pellets.iter().enumerate() {
             if p.type_index as usize >= self.pellet_types.len() {

@@ -86,6 +86,14 @@ impl Pellet {
         let control = catalogue::control_mesh(&shape, segments)?;
         let mesh = control.subdivided(resolution.level).mesh;
         let mut notes = Vec::new();
+        let size = mesh_size(&mesh);
+        let (lo, hi) = crate::shape_spec::SIZE_RANGE_MM;
+        if !(size.is_finite() && (lo..=hi).contains(&(size * 1e3))) {
+            return Err(GeomError::BadMesh(format!(
+                "the mesh is {} mm across; a pellet must be {lo} to {hi} mm (is --unit right?)",
+                size * 1e3
+            )));
+        }
         let topology = mesh.check_closed()?;
         if let Some(genus) = shape.genus() {
             if topology.components != 1 || topology.genus() != genus as i64 {
@@ -119,7 +127,19 @@ impl Pellet {
     /// re-centred on its centroid; an inside-out mesh is flipped.
     pub fn from_mesh(mut mesh: TriMesh, source: String, unit: String) -> Result<Pellet, GeomError> {
         let mut notes = Vec::new();
+        let size = mesh_size(&mesh);
+        let (lo, hi) = crate::shape_spec::SIZE_RANGE_MM;
+        if !(size.is_finite() && (lo..=hi).contains(&(size * 1e3))) {
+            return Err(GeomError::BadMesh(format!(
+                "the mesh is {} mm across; a pellet must be {lo} to {hi} mm (is --unit right?)",
+                size * 1e3
+            )));
+        }
         let topology = mesh.check_closed()?;
+        // Moved to the origin first: the volume and centroid sum products of coordinates, which
+        // far from the origin cancel to noise (a sphere 1e4 m out came out with sphericity 0.84).
+        let shift = -bounding_box_centre(&mesh);
+        mesh.translate(&shift);
         if topology.components != 1 {
             return Err(GeomError::BadMesh(format!(
                 "the mesh has {} separate parts; a pellet must be one closed surface",
@@ -135,13 +155,14 @@ impl Pellet {
             }
         };
         let offset = -properties.centroid.coords;
+        let moved = shift + offset;
         // Say so only when the move is visible at the precision printed (1 nm).
-        if offset.norm() > 1e-9 {
+        if moved.norm() > 1e-9 {
             notes.push(format!(
                 "re-centred on the centroid: moved by ({:.6}, {:.6}, {:.6}) mm",
-                offset.x * 1e3,
-                offset.y * 1e3,
-                offset.z * 1e3
+                moved.x * 1e3,
+                moved.y * 1e3,
+                moved.z * 1e3
             ));
         }
         if offset.norm() > 0.0 {
@@ -212,4 +233,23 @@ fn bounding_radius(mesh: &TriMesh, pieces: &[ConvexPiece]) -> Real {
         })
         .fold(0.0, Real::max);
     mesh.max_radius().max(pieces_max)
+}
+
+/// Each axis's (min, max) over a mesh's vertices.
+fn bounding_box(mesh: &TriMesh) -> [(Real, Real); 3] {
+    std::array::from_fn(|k| {
+        mesh.vertices
+            .iter()
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), v| (lo.min(v.coords[k]), hi.max(v.coords[k])))
+    })
+}
+
+/// The largest extent of a mesh's bounding box (m).
+fn mesh_size(mesh: &TriMesh) -> Real {
+    bounding_box(mesh).iter().map(|(lo, hi)| hi - lo).fold(0.0, Real::max)
+}
+
+fn bounding_box_centre(mesh: &TriMesh) -> crate::math::Vector {
+    let b = bounding_box(mesh);
+    crate::math::Vector::new(0.5 * (b[0].0 + b[0].1), 0.5 * (b[1].0 + b[1].1), 0.5 * (b[2].0 + b[2].1))
 }

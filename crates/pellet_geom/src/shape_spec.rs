@@ -70,9 +70,17 @@ pub enum ShapeSpec {
     },
 }
 
+/// The lengths a pellet may have (mm): its size, and each dimension given for it. Beyond them
+/// the meshing and the engine's double precision fail with messages about hulls and
+/// non-finite states instead of about the size.
+pub const SIZE_RANGE_MM: (Real, Real) = (1e-3, 1e4);
+
 fn positive(flag: &str, value: Real) -> Result<(), GeomError> {
-    if value.is_finite() && value > 0.0 {
+    let (lo, hi) = SIZE_RANGE_MM;
+    if value.is_finite() && (lo..=hi).contains(&value) {
         Ok(())
+    } else if value.is_finite() && value > 0.0 {
+        Err(GeomError::BadParameter(format!("{flag} must be between {lo} and {hi} mm (got {value:e} mm)")))
     } else {
         Err(GeomError::BadParameter(format!("{flag} must be a finite number > 0 mm (got {value})")))
     }

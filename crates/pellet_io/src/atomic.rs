@@ -1,9 +1,42 @@
 //! Reading inputs and writing outputs: `-` for stdin/stdout, atomic files.
 
 use std::io::{IsTerminal, Read, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use crate::IoError;
+
+/// The temporary files being written, removed by the signal handler: a temporary file is
+/// otherwise removed only when its writer returns, and an interrupted tool never returns.
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// On Ctrl-C or SIGTERM, removes the temporary files of [`write_outputs`] in progress (the
+/// outputs stay as they were) and ends the tool with `tool: error: interrupted` and exit 2.
+/// For tools that install no handler of their own (`pack` finishes its step and keeps its run).
+pub fn remove_temporary_files_on_signal(tool: &'static str) {
+    let _ = ctrlc::set_handler(move || {
+        remove_temporaries();
+        eprintln!("{tool}: error: interrupted; no output was changed");
+        std::process::exit(2);
+    });
+}
+
+fn remove_temporaries() {
+    let paths = TEMPORARIES.lock().map(|mut t| std::mem::take(&mut *t)).unwrap_or_default();
+    for path in paths {
+        let _ = std::fs::remove_file(path);
+    }
+}
+
+fn registered(path: &Path, add: bool) {
+    if let Ok(mut t) = TEMPORARIES.lock() {
+        if add {
+            t.push(path.to_path_buf());
+        } else {
+            t.retain(|p| p != path);
+        }
+    }
+}
 
 /// One output: a destination (`-` = stdout) and its bytes.
 pub struct OutputFile {
@@ -59,6 +92,11 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
             _ => Path::new("."),
         };
         let io = |source| IoError::Io { path: out.path.clone(), source };
+        // Checked first: the temporary file's error would name the temporary file instead.
+        if !dir.is_dir() {
+            let why = format!("the directory {} does not exist; create it or give another path", dir.display());
+            return Err(io(std::io::Error::new(std::io::ErrorKind::NotFound, why)));
+        }
         let mut builder = tempfile::Builder::new();
         builder.prefix(".packbed-").suffix(".tmp");
         // Temporary files are private (0600); an output is not: ask for
@@ -69,13 +107,17 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
             builder.permissions(std::fs::Permissions::from_mode(0o666));
         }
         let mut tmp = builder.tempfile_in(dir).map_err(io)?;
+        registered(tmp.path(), true);
         tmp.write_all(&out.bytes).map_err(io)?;
         tmp.as_file().sync_all().map_err(io)?;
         staged.push((tmp, target));
     }
-    for (tmp, target) in staged {
-        tmp.persist(target).map_err(|e| IoError::Io { path: target.display().to_string(), source: e.error })?;
-    }
+    let staged_paths: Vec<PathBuf> = staged.iter().map(|(tmp, _)| tmp.path().to_path_buf()).collect();
+    let persisted = staged.into_iter().try_for_each(|(tmp, target)| {
+        tmp.persist(target).map(|_| ()).map_err(|e| IoError::Io { path: target.display().to_string(), source: e.error })
+    });
+    staged_paths.iter().for_each(|p| registered(p, false));
+    persisted?;
     for out in in_place {
         let io = |source| IoError::Io { path: out.path.clone(), source };
         let mut file = std::fs::OpenOptions::new().write(true).open(&out.path).map_err(io)?;
@@ -98,9 +140,17 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
 mod tests {
     use std::os::unix::fs::{FileTypeExt, PermissionsExt};
 
+    /// The temporaries are one list for the process: the test that empties it runs alone.
+    static SERIAL: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+    fn serial() -> std::sync::MutexGuard<'static, ()> {
+        SERIAL.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
     /// An output that is a FIFO (or a device such as /dev/null) is written into, not replaced.
     #[test]
     fn a_fifo_output_is_written_in_place() {
+        let _serial = serial();
         let dir = tempfile::tempdir().unwrap();
         let fifo = dir.path().join("pipe");
         assert!(std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
@@ -118,8 +168,23 @@ mod tests {
         assert_eq!(reader.join().unwrap(), b"abc");
     }
 
+    /// What the signal handler does: the temporary files in progress go, and nothing else.
+    #[test]
+    fn the_temporaries_in_progress_are_removed() {
+        let _serial = serial();
+        let dir = tempfile::tempdir().unwrap();
+        let (tmp, kept) = (dir.path().join(".packbed-x.tmp"), dir.path().join("out.csv"));
+        std::fs::write(&tmp, b"partial").unwrap();
+        std::fs::write(&kept, b"old output").unwrap();
+        super::registered(&tmp, true);
+        super::remove_temporaries();
+        assert!(!tmp.exists());
+        assert_eq!(std::fs::read(&kept).unwrap(), b"old output");
+    }
+
     #[test]
     fn outputs_get_the_permissions_of_any_new_file() {
+        let _serial = serial();
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out.bin").display().to_string();
         super::write_outputs(&[super::OutputFile {

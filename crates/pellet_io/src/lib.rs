@@ -14,7 +14,8 @@
 //! |---|---|
 //! | 0..8 | magic `PBPELLET` |
 //! | 8..12 | format version, u32 little-endian (currently [`PELLET_FORMAT_VERSION`]) |
-//! | 12.. | a [`PelletFile`] encoded with bincode 2 (`config::standard()` with fixed-width little-endian integers), serde layout |
+//! | 12..n−4 | a [`PelletFile`] encoded with bincode 2 (`config::standard()` with fixed-width little-endian integers), serde layout |
+//! | n−4..n | CRC-32 (IEEE, as zlib) of bytes 0..n−4, u32 little-endian; a mismatch is an error |
 //!
 //! Units: every length in the [`pellet_geom::Pellet`] is in **metres**
 //! (mesh vertices, convex pieces, closed-form radii, bounding radius), mass
@@ -23,14 +24,14 @@
 //! recorded in millimetres, as typed (fields end in `_mm`). The body frame
 //! has its origin at the centroid and the symmetry axis along z.
 //!
-//! Compatibility: a reader accepts exactly its own major format version
-//! and fails with an error naming both versions otherwise; there is no
-//! backward compatibility before version 1.0 of packbed.
+//! Compatibility: a reader accepts its own format version and the one
+//! before it (version 1, without the checksum: read unchecked, with a note
+//! on stderr), and fails with an error naming both versions otherwise.
 //!
 //! # The packing file (`.packing`)
 //!
 //! Written by `settle-check`, read by `voidprof` and `bedexport`: one
-//! frame of a bed. Same layout as the pellet file with magic `PBPACKNG`
+//! frame of a bed. Same layout as the pellet file (checksum included) with magic `PBPACKNG`
 //! and its own version ([`PACKING_FORMAT_VERSION`]); the payload is a
 //! [`PackingFile`]: provenance, the frame's time (s), the settle verdict,
 //! and a [`pellet_geom::Bed`] — the tube (diameter and optional lid height,
@@ -92,7 +93,7 @@ mod pellet_file;
 mod poses_csv;
 mod trajectory;
 
-pub use atomic::{is_special_file, read_input, write_outputs, OutputFile};
+pub use atomic::{is_special_file, read_input, remove_temporary_files_on_signal, write_outputs, OutputFile};
 pub use mesh_files::{obj_bytes, read_mesh, stl_bytes, MeshFormat};
 pub use packing_file::{
     decode_packing, encode_packing, PackingFile, SettleVerdict, PACKING_FORMAT_VERSION, PACKING_MAGIC,

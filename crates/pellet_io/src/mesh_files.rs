@@ -64,7 +64,34 @@ pub fn read_mesh(bytes: &[u8], format: MeshFormat, path: &str) -> Result<TriMesh
     if mesh.triangles.is_empty() {
         return Err(corrupt("the file holds no triangles".into()));
     }
+    if format == MeshFormat::Stl {
+        single_precision_suffices(&mesh).map_err(corrupt)?;
+    }
     Ok(mesh)
+}
+
+/// STL stores single-precision coordinates: far from the origin their step (2⁻²³ of the
+/// distance) is a visible part of a small pellet, and re-centring cannot bring back what the
+/// file no longer holds. Refused when the step exceeds 1e-4 of the pellet's size.
+fn single_precision_suffices(mesh: &TriMesh) -> Result<(), String> {
+    let far = mesh.vertices.iter().flat_map(|v| [v.x, v.y, v.z]).fold(0.0, |m: Real, c| m.max(c.abs()));
+    let size = (0..3)
+        .map(|k| {
+            let (lo, hi) = mesh
+                .vertices
+                .iter()
+                .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), v| (lo.min(v.coords[k]), hi.max(v.coords[k])));
+            hi - lo
+        })
+        .fold(0.0, Real::max);
+    let step = far * Real::from(f32::EPSILON);
+    if step > 1e-4 * size {
+        return Err(format!(
+            "the mesh lies {far:.4e} units from the origin, where STL's single precision resolves only {step:.3e} \
+             units of its {size:.4e}-unit size; move it to the origin before exporting (or export OBJ, which keeps double precision)"
+        ));
+    }
+    Ok(())
 }
 
 /// Merges vertices with identical coordinates (OBJ groups repeat them).

@@ -11,7 +11,7 @@ use crate::IoError;
 /// The first eight bytes of every packing file.
 pub const PACKING_MAGIC: &[u8; 8] = b"PBPACKNG";
 /// The packing format version this build writes and reads.
-pub const PACKING_FORMAT_VERSION: u32 = 1;
+pub const PACKING_FORMAT_VERSION: u32 = crate::framed::CHECKED_VERSION;
 
 /// How the frame was chosen and what the termination test said.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -10,7 +10,7 @@ use crate::IoError;
 /// The first eight bytes of every pellet file.
 pub const PELLET_MAGIC: &[u8; 8] = b"PBPELLET";
 /// The pellet format version this build writes and reads.
-pub const PELLET_FORMAT_VERSION: u32 = 1;
+pub const PELLET_FORMAT_VERSION: u32 = crate::framed::CHECKED_VERSION;
 
 /// Who wrote a file and how: enough to make it again.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -10,8 +10,8 @@
 //!
 //! - An optional header line names the columns (`id,x,y,z,qw,qx,qy,qz`, any
 //!   order, case-insensitive); other columns are ignored. Without a header
-//!   the columns are positional: 4 fields (spheres) or 8. The id is not
-//!   interpreted (any text).
+//!   the columns are positional: 4 fields (spheres) or 8. The id is any
+//!   text, but no two pellets may share one (a repeated row is refused).
 //! - Lines starting with `#` and blank lines are skipped.
 //! - Quaternions are normalised; one whose norm differs from 1 by more than
 //!   0.001 is refused, as are non-finite numbers.
@@ -29,7 +29,8 @@ const NAMES: [&str; 8] = ["id", "x", "y", "z", "qw", "qx", "qy", "qz"];
 /// the centroid, symmetry axis along z). An optional header names the
 /// columns (any order, case-insensitive, extra columns ignored); without
 /// one, 4 or 8 positional fields. `#` lines and blank lines are skipped.
-/// Quaternions are normalised; a norm off by more than 0.001 is refused.
+/// Quaternions are normalised; a norm off by more than 0.001 is refused,
+/// and so is an id given twice.
 /// `orientation_required`: refuse rows without a quaternion (every shape
 /// but the sphere).
 pub fn decode_poses_csv(bytes: &[u8], path: &str, orientation_required: bool) -> Result<Vec<PlacedPellet>, IoError> {
@@ -40,6 +41,7 @@ pub fn decode_poses_csv(bytes: &[u8], path: &str, orientation_required: bool) ->
     // columns[k]: the field index of NAMES[k], if present.
     let mut columns: Option<[Option<usize>; 8]> = None;
     let mut poses = Vec::new();
+    let mut ids: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
     for (n, raw) in text.lines().enumerate() {
         let line_no = n + 1;
         let line = raw.trim();
@@ -84,6 +86,14 @@ pub fn decode_poses_csv(bytes: &[u8], path: &str, orientation_required: bool) ->
                 _ => Err(corrupt(line_no, format!("{} = {f:?} is not a finite number", NAMES[k]))),
             }
         };
+        if let Some(id) = cols[0].and_then(|i| fields.get(i)) {
+            if let Some(first) = ids.insert(id.to_string(), line_no) {
+                return Err(corrupt(
+                    line_no,
+                    format!("id {id} is also on line {first}; every pellet needs its own id"),
+                ));
+            }
+        }
         let mut position = [0.0; 3];
         for (k, p) in position.iter_mut().enumerate() {
             *p = value(k + 1)?.expect("x, y, z are required") * 1e-3;
@@ -128,6 +138,8 @@ mod tests {
         assert!(err.contains("\"z\""), "{err}");
         let err = decode_poses_csv(b"1,0,0,5\n2,0,nan,5\n", "p.csv", false).unwrap_err().to_string();
         assert!(err.contains("line 2") && err.contains("y"), "{err}");
+        let err = decode_poses_csv(b"1,0,0,5\n2,0,0,15\n1,0,0,25\n", "p.csv", false).unwrap_err().to_string();
+        assert!(err.contains("line 3: id 1 is also on line 1"), "{err}");
         let err = decode_poses_csv(b"1,0,0\n", "p.csv", false).unwrap_err().to_string();
         assert!(err.contains("3 fields"), "{err}");
     }

@@ -121,7 +121,11 @@ fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8], path: &str, what: &str) 
 
 fn mcap_error(path: &Path) -> impl Fn(mcap::McapError) -> IoError {
     let path = path.display().to_string();
-    move |e| IoError::Corrupt { path: path.clone(), reason: format!("MCAP: {e}") }
+    // An I/O failure (a full disk) is reported as the operating system words it.
+    move |e| match e {
+        mcap::McapError::Io(source) => IoError::Io { path: path.clone(), source },
+        e => IoError::Corrupt { path: path.clone(), reason: format!("MCAP: {e}") },
+    }
 }
 
 /// What goes at the start of a trajectory.
@@ -459,6 +463,7 @@ pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> 
     };
     let mut topics: BTreeMap<u16, String> = BTreeMap::new();
     let mut profile_ok = false;
+    let mut header_seen = false;
     for record in reader {
         let record = match record {
             Ok(r) => r,
@@ -468,7 +473,10 @@ pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> 
             }
         };
         match record {
-            Record::Header(h) => profile_ok = h.profile == TRAJECTORY_PROFILE,
+            Record::Header(h) => {
+                header_seen = true;
+                profile_ok = h.profile == TRAJECTORY_PROFILE;
+            }
             Record::Metadata(m) if m.name == RUN_METADATA => out.run = m.metadata,
             Record::Attachment { header, data, .. } => {
                 if header.name == TUBE_ATTACHMENT {
@@ -495,6 +503,15 @@ pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> 
             _ => {}
         }
     }
+    if !header_seen && out.truncated.is_some() {
+        return Err(IoError::Corrupt {
+            path: path.into(),
+            reason: format!(
+                "truncated: the file ends within its MCAP header ({} bytes), before any of the run was recorded; run `pack` again",
+                bytes.len()
+            ),
+        });
+    }
     if !profile_ok {
         return Err(IoError::Corrupt {
             path: path.into(),
@@ -507,4 +524,14 @@ pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> 
 fn parse_tube(data: &[u8]) -> Option<Tube> {
     let t: TubeJson = serde_json::from_slice(data).ok()?;
     Some(Tube { diameter: t.diameter_m, lid_height: t.lid_height_m })
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_full_disk_reads_as_the_operating_system_words_it() {
+        let full = mcap::McapError::Io(std::io::Error::from_raw_os_error(28));
+        let e = super::mcap_error(std::path::Path::new("run.mcap.part"))(full).to_string();
+        assert!(e.starts_with("run.mcap.part: No space left on device"), "{e}");
+    }
 }

@@ -33,6 +33,13 @@ fn every_truncation_is_an_error_not_a_panic() {
     for cut in [0, 7, 11, 12, 100, bytes.len() / 3, bytes.len() - 1] {
         assert!(decode_pellet(&bytes[..cut], "cut").is_err(), "cut at {cut} decoded");
     }
+    // Damage reads in words: a cut file is truncated, a wild length prefix corrupt.
+    let cut = decode_pellet(&bytes[..bytes.len() / 2], "cut.pellet").unwrap_err().to_string();
+    assert!(cut.contains("cut.pellet: the pellet file is truncated (its data ends early)"), "{cut}");
+    let mut wild = bytes.clone();
+    wild[12..20].copy_from_slice(&u64::MAX.to_le_bytes());
+    let wild = decode_pellet(&wild, "w.pellet").unwrap_err().to_string();
+    assert!(wild.contains("is corrupt (a length in it is impossibly large)") && !wild.contains("Limit"), "{wild}");
     let mut extended = bytes.clone();
     extended.push(0);
     assert!(decode_pellet(&extended, "long").unwrap_err().to_string().contains("unexpected bytes"));
@@ -118,4 +125,55 @@ fn a_trajectory_to_a_fifo_is_written_in_place() {
     let t = read_trajectory(&bytes, "fifo").unwrap();
     assert_eq!(t.frames.len(), 1);
     assert_eq!(t.frames[0].time_s, 0.5);
+}
+
+/// A trajectory cut inside its first records (a run killed at once) says it is truncated.
+#[test]
+fn a_trajectory_cut_in_its_header_is_reported_truncated() {
+    use pellet_geom::Tube;
+    use pellet_io::{read_trajectory, TrajectoryHeader, TrajectoryWriter};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run.mcap");
+    let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
+    let files = [encode_pellet(&file(ShapeSpec::Sphere { diameter_mm: 10.0 })).unwrap()];
+    let tube = Tube { diameter: 0.04, lid_height: None };
+    let header = TrajectoryHeader {
+        provenance: &provenance,
+        config_json: "{}",
+        seed: 1,
+        build: "git test",
+        pellet_files: &files,
+        tube: &tube,
+    };
+    TrajectoryWriter::create(&path, &header).unwrap().finish().unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    for cut in [10, 12, 20] {
+        let Err(e) = read_trajectory(&bytes[..cut], "cut.mcap") else { panic!("cut at {cut} read") };
+        let e = e.to_string();
+        assert!(e.contains("truncated: the file ends within its MCAP header"), "cut at {cut}: {e}");
+    }
+}
+
+/// A byte changed in a pellet's vertex data is found by the checksum; a file of the format
+/// before checksums (version 1: no trailing CRC) still reads.
+#[test]
+fn a_changed_byte_fails_the_checksum_and_old_files_still_read() {
+    let original = file(ShapeSpec::Sphere { diameter_mm: 10.0 });
+    let bytes = encode_pellet(&original).unwrap();
+    let x = original.pellet.mesh.vertices[10].x.to_le_bytes();
+    let at = bytes.windows(8).position(|w| w == x).expect("a vertex's bytes in the file");
+    let mut flipped = bytes.clone();
+    flipped[at + 3] ^= 0x10;
+    let e = decode_pellet(&flipped, "f.pellet").unwrap_err().to_string();
+    assert!(e.contains("f.pellet: the pellet file's checksum does not match its contents"), "{e}");
+    let mut crc = bytes.clone();
+    let n = crc.len();
+    crc[n - 1] ^= 1;
+    assert!(decode_pellet(&crc, "c.pellet").unwrap_err().to_string().contains("checksum"));
+    let mut old = bytes[..bytes.len() - 4].to_vec();
+    old[8..12].copy_from_slice(&1u32.to_le_bytes());
+    assert_eq!(decode_pellet(&old, "old.pellet").unwrap(), original);
+    let mut future = bytes.clone();
+    future[8..12].copy_from_slice(&3u32.to_le_bytes());
+    assert!(decode_pellet(&future, "new.pellet").unwrap_err().to_string().contains("format version 3"));
 }

@@ -9,6 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::driver::STEP_S;
 use crate::loading::LoadingScheme;
 pub use pellet_sim::Stepper;
 
@@ -122,7 +123,11 @@ impl PackOptions {
         if text.trim_start().starts_with('{') {
             serde_json::from_str(text).map_err(|e| ConfigError(format!("{name}: bad JSON case file: {e}")))
         } else {
-            toml::from_str(text).map_err(|e| ConfigError(format!("{name}: bad TOML case file: {}", e.message())))
+            toml::from_str(text).map_err(|e| {
+                // The position as name:line, where an editor jumps to it.
+                let at = e.span().map_or(String::new(), |s| format!(":{}", text[..s.start].matches('\n').count() + 1));
+                ConfigError(format!("{name}{at}: bad TOML case file: {}", e.message()))
+            })
         }
     }
 
@@ -278,6 +283,25 @@ fn check(flag: &str, v: f64, lo: f64, hi: f64, lo_open: bool, unit: &str) -> Res
     }
 }
 
+/// A time (s) that the run can honour: frames and the time limit fall on engine steps of
+/// [`STEP_S`], so a shorter time, or one between two steps, would silently become another.
+fn whole_steps(flag: &str, v: f64, hi: f64) -> Result<f64, ConfigError> {
+    let v = check(flag, v, 0.0, hi, true, " s")?;
+    let steps = (v / STEP_S).round();
+    if steps < 1.0 || (steps * STEP_S - v).abs() > 1e-9 * v.max(1.0) {
+        let shown = |steps: f64| {
+            let t = format!("{:.3}", steps.max(1.0) * STEP_S);
+            t.trim_end_matches('0').trim_end_matches('.').to_string()
+        };
+        let (below, above) = (shown((v / STEP_S).floor()), shown((v / STEP_S).ceil()));
+        let nearest = if below == above { below } else { format!("{below} or {above}") };
+        return Err(ConfigError(format!(
+            "--{flag} must be a whole number of the {STEP_S} s engine steps (at least {STEP_S} s; got {v} s): give {nearest}"
+        )));
+    }
+    Ok(v)
+}
+
 impl PackConfig {
     /// Defaults, checks and unit conversion. The defaults are the paper's
     /// validation values (density 8030 kg/m³, COR 0.9 and μ 0.1 between
@@ -311,8 +335,8 @@ impl PackConfig {
             wall_friction: check("wall-friction", o.wall_friction.unwrap_or(0.6), 0.0, 10.0, false, "")?,
             density_kg_m3: check("density", o.density.unwrap_or(8030.0), 0.0, 1e6, true, " kg/m³")?,
             drop_height_m: check("drop-height", o.drop_height.unwrap_or(30.0), 0.0, 1e4, true, " mm")? * mm,
-            record_every_s: check("record-every", o.record_every.unwrap_or(0.01), 0.0, 1e3, true, " s")?,
-            max_time_s: check("max-time", o.max_time.unwrap_or(120.0), 0.0, 1e6, true, " s")?,
+            record_every_s: whole_steps("record-every", o.record_every.unwrap_or(0.01), 1e3)?,
+            max_time_s: whole_steps("max-time", o.max_time.unwrap_or(120.0), 1e6)?,
             scheme,
             tilt_rad: check("tilt", o.tilt.unwrap_or(45.0), 0.0, 90.0, false, "°")?.to_radians(),
             position_jitter_dp: check("position-jitter", o.position_jitter.unwrap_or(0.1), 0.0, 10.0, false, " dp")?,
@@ -359,6 +383,25 @@ mod tests {
             count: Some(40),
             ..Default::default()
         }
+    }
+
+    #[test]
+    fn times_between_engine_steps_are_refused_with_the_nearest_allowed() {
+        let resolve = |record_every: f64, max_time: f64| {
+            PackConfig::resolve(&PackOptions { record_every: Some(record_every), max_time: Some(max_time), ..base() })
+        };
+        let e = resolve(0.001, 1.0).unwrap_err().0;
+        assert!(
+            e.contains("--record-every must be a whole number of the 0.005 s engine steps")
+                && e.ends_with("give 0.005"),
+            "{e}"
+        );
+        let e = resolve(0.012, 1.0).unwrap_err().0;
+        assert!(e.ends_with("give 0.01 or 0.015"), "{e}");
+        let e = resolve(0.01, 0.001).unwrap_err().0;
+        assert!(e.starts_with("--max-time") && e.ends_with("give 0.005"), "{e}");
+        let c = resolve(0.015, 0.3).unwrap();
+        assert_eq!((c.record_every_s, c.max_time_s), (0.015, 0.3));
     }
 
     #[test]

@@ -92,8 +92,16 @@ impl Chart<'_> {
         let shown = || path.display().to_string();
         let format = ImageFormat::of(path).ok_or_else(|| PlotError::UnknownFormat { path: shown() })?;
         let (x_range, y_range) = self.ranges().ok_or_else(|| PlotError::Empty { path: shown() })?;
-        register_fonts();
         let draw_err = |reason: String| PlotError::Draw { path: shown(), reason };
+        // Checked here: the PNG encoder would report it as a nest of its own error names.
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        if !dir.is_dir() {
+            return Err(draw_err(format!(
+                "the directory {} does not exist; create it or give another path",
+                dir.display()
+            )));
+        }
+        register_fonts();
         match format {
             ImageFormat::Svg => {
                 let mut svg = String::new();

@@ -135,7 +135,7 @@ pub struct Args {
     /// Gap (mm) below which --shrink counts a contact as opened [default: dp/100].
     #[arg(long, value_name = "MM")]
     pub contact_gap: Option<f64>,
-    /// No progress on stderr.
+    /// Print nothing but errors: no progress on stderr, no summary.
     #[arg(short, long)]
     pub quiet: bool,
 }
@@ -146,6 +146,25 @@ impl Args {
             .into_iter()
             .flatten()
             .collect()
+    }
+
+    /// Every file written, with the flag that names it (the voxel header beside --voxels).
+    fn output_flags(&self) -> Vec<(String, String)> {
+        let flags = [
+            ("--stl", &self.stl),
+            ("--tube-stl", &self.tube_stl),
+            ("--vtk", &self.vtk),
+            ("--vtk-centres", &self.vtk_centres),
+            ("--voxels", &self.voxels),
+            ("--vti", &self.vti),
+            ("--csv", &self.csv),
+        ];
+        let mut all: Vec<(String, String)> =
+            flags.iter().filter_map(|(f, p)| p.as_ref().map(|p| (f.to_string(), p.clone()))).collect();
+        if let Some(v) = &self.voxels {
+            all.push(("--voxels (its header)".into(), format!("{v}.json")));
+        }
+        all
     }
 }
 
@@ -200,6 +219,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if args.tube_segments < 8 {
         bail!("--tube-segments must be at least 8 (got {})", args.tube_segments);
     }
+    pellet_cli::refuse_overwriting_inputs([&args.packing], args.output_flags())?;
     let file = pellet_io::decode_packing(&pellet_io::read_input(&args.packing)?, &args.packing)?;
     let bed = file.bed;
     if bed.pellets.is_empty() {
@@ -355,10 +375,13 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         files,
     };
     let text = summary::text(&exported);
+    if args.quiet {
+        return Ok(Outcome::Success);
+    }
     if paths.iter().any(|p| p.as_str() == "-") {
         eprint!("{text}");
     } else {
-        print!("{text}");
+        pellet_cli::print_stdout(&text)?;
     }
     Ok(Outcome::Success)
 }

@@ -133,7 +133,6 @@ fn every_format_reads_back_to_the_same_pellets_and_volume() {
             "bed.raw",
             "--vti",
             "bed.vti",
-            "--quiet",
         ],
         None,
     );
@@ -385,7 +384,7 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
     std::fs::write(dir.path().join("text.packing"), b"not a packing").unwrap();
     let cases: &[(&[&str], &str)] = &[
         (&["missing.packing", "--stl", "o.stl"], "missing.packing"),
-        (&["cut.packing", "--stl", "o.stl"], "truncated or corrupt"),
+        (&["cut.packing", "--stl", "o.stl"], "is truncated (its data ends early)"),
         (&["text.packing", "--stl", "o.stl"], "not a packbed packing file"),
         (&["bed.packing"], "nothing to export"),
         (&["bed.packing", "--stl", "o.stl", "--solids", "per-pellet"], "needs --ascii"),

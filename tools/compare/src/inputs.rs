@@ -18,6 +18,8 @@ pub struct Table {
     pub source: String,
     headers: Vec<String>,
     rows: Vec<Vec<f64>>,
+    /// The line number (1-based) of each row, for messages.
+    lines: Vec<usize>,
 }
 
 impl Table {
@@ -30,6 +32,7 @@ impl Table {
         let headers: Vec<String> =
             header.split(',').map(|h| h.trim().trim_matches('"').trim_start_matches('\u{feff}').to_string()).collect();
         let mut rows = Vec::new();
+        let mut numbers = Vec::new();
         for (i, line) in lines {
             let cells: Vec<&str> = line.split(',').collect();
             if cells.len() != headers.len() {
@@ -47,14 +50,24 @@ impl Table {
                 })
                 .collect::<Result<Vec<f64>>>()?;
             rows.push(row);
+            numbers.push(i + 1);
         }
-        Ok(Table { source: source.to_string(), headers, rows })
+        Ok(Table { source: source.to_string(), headers, rows, lines: numbers })
     }
 
     /// The column named `name`, if present.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let i = self.headers.iter().position(|h| h == name)?;
         Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+
+    /// Errors at the first row whose value in `values` (a column of this table) fails `ok`,
+    /// naming the line, the column and what the value must be.
+    fn check(&self, values: &[f64], column: &str, must: &str, ok: impl Fn(f64) -> bool) -> Result<()> {
+        match values.iter().zip(&self.lines).find(|(v, _)| !ok(**v)) {
+            Some((v, line)) => bail!("{}:{line}: {column} {v} is not {must}; fix or remove the row", self.source),
+            None => Ok(()),
+        }
     }
 
     /// Whether the table has no data rows.
@@ -66,11 +79,18 @@ impl Table {
 /// Wall distances of a profile table in units of `unit_name` (`dp` or
 /// `dpv`), from the matching column or from `wall_distance_mm / length_mm`.
 pub fn wall_distance(table: &Table, unit_name: &str, length_mm: Option<f64>, length_flag: &str) -> Result<Vec<f64>> {
-    if let Some(z) = table.column(&format!("wall_distance_{unit_name}")) {
+    let in_tube = |v: f64| v.is_finite() && v >= 0.0;
+    let must = "a distance from the wall (a number >= 0; the profile lies inside the tube)";
+    let column = format!("wall_distance_{unit_name}");
+    if let Some(z) = table.column(&column) {
+        table.check(&z, &column, must, in_tube)?;
         return Ok(z);
     }
     match (table.column("wall_distance_mm"), length_mm) {
-        (Some(mm), Some(len)) => Ok(mm.iter().map(|v| v / len).collect()),
+        (Some(mm), Some(len)) => {
+            table.check(&mm, "wall_distance_mm", must, in_tube)?;
+            Ok(mm.iter().map(|v| v / len).collect())
+        }
         (Some(_), None) => bail!(
             "{}: has wall_distance_mm but not wall_distance_{unit_name}; give {length_flag} MM or a --summary",
             table.source
@@ -82,9 +102,12 @@ pub fn wall_distance(table: &Table, unit_name: &str, length_mm: Option<f64>, len
     }
 }
 
-/// The void fraction column.
+/// The void fraction column; every row a fraction in [0, 1].
 pub fn void_fraction(table: &Table) -> Result<Vec<f64>> {
-    table.column("void_fraction").with_context(|| format!("{}: missing column void_fraction", table.source))
+    let eps =
+        table.column("void_fraction").with_context(|| format!("{}: missing column void_fraction", table.source))?;
+    table.check(&eps, "void_fraction", "a fraction in [0, 1]", |v| (0.0..=1.0).contains(&v))?;
+    Ok(eps)
 }
 
 /// The tube diameter implied by `r_mm + wall_distance_mm` (first row).
@@ -159,7 +182,30 @@ pub struct Summary {
 
 /// Parses a summary JSON object.
 pub fn parse_summary(source: &str, bytes: &[u8]) -> Result<Summary> {
-    serde_json::from_slice(bytes).with_context(|| format!("{source}: not a voidprof summary (JSON object)"))
+    let s: Summary =
+        serde_json::from_slice(bytes).with_context(|| format!("{source}: not a voidprof summary (JSON object)"))?;
+    let fraction = |v: f64| (0.0..=1.0).contains(&v);
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    type Check<'a> = (&'a str, Option<f64>, &'a str, &'a dyn Fn(f64) -> bool);
+    let checks: [Check; 8] = [
+        ("bulk_porosity", s.bulk_porosity, "a fraction in [0, 1]", &fraction),
+        ("pellet_diameter_mm", s.pellet_diameter_mm, "a length > 0", &positive),
+        ("dpv_mm", s.dpv_mm, "a length > 0", &positive),
+        ("tube_diameter_mm", s.tube_diameter_mm, "a length > 0", &positive),
+        ("N", s.n, "a ratio > 0", &positive),
+        ("N_dpv", s.n_dpv, "a ratio > 0", &positive),
+        ("ring_di_do", s.ring_di_do, "a ratio in (0, 1)", &|v| v > 0.0 && v < 1.0),
+        ("sphericity", s.sphericity, "in (0, 1]", &|v| v > 0.0 && v <= 1.0),
+    ];
+    if checks.iter().all(|c| c.1.is_none()) && s.shape.is_none() && s.pellets.is_none() {
+        bail!("{source}: holds none of a voidprof summary's fields (bulk_porosity, N, shape, …); give the --summary voidprof wrote");
+    }
+    for (name, value, must, ok) in checks {
+        if let Some(v) = value.filter(|v| !ok(*v)) {
+            bail!("{source}: {name} {v} is not {must}");
+        }
+    }
+    Ok(s)
 }
 
 #[cfg(test)]
@@ -194,6 +240,32 @@ mod tests {
         assert!(wall_distance(&t, "dp", None, "--dp").unwrap_err().to_string().contains("missing column"));
         assert!(void_fraction(&t).unwrap_err().to_string().contains("missing column void_fraction"));
         assert!(Table::parse("h.csv", b"").unwrap_err().to_string().contains("empty file"));
+    }
+
+    #[test]
+    fn impossible_rows_and_summaries_are_errors_naming_them() {
+        let csv = |rows: &str| format!("wall_distance_dp,void_fraction\n0,1\n{rows}");
+        for (rows, needle) in [
+            ("0.1,1.7\n", "p.csv:3: void_fraction 1.7 is not a fraction in [0, 1]"),
+            ("0.1,-0.5\n", "p.csv:3: void_fraction -0.5"),
+            ("0.1,0.4\n0.2,NaN\n", "p.csv:4: void_fraction NaN"),
+            ("0.1,\n", "p.csv:3: void_fraction NaN"),
+            ("nan,0.4\n", "p.csv:3: wall_distance_dp NaN"),
+            ("-1,0.4\n", "p.csv:3: wall_distance_dp -1"),
+        ] {
+            let t = Table::parse("p.csv", csv(rows).as_bytes()).unwrap();
+            let e = wall_distance(&t, "dp", None, "--dp").and_then(|_| void_fraction(&t)).unwrap_err().to_string();
+            assert!(e.contains(needle), "{rows:?}: {e}");
+        }
+        for (json, needle) in [
+            ("{}", "none of a voidprof summary's fields"),
+            (r#"{"extra": 1}"#, "none of"),
+            (r#"{"bulk_porosity": 1.2}"#, "bulk_porosity 1.2 is not a fraction"),
+            (r#"{"N": -3}"#, "N -3 is not a ratio > 0"),
+        ] {
+            let e = parse_summary("s.json", json.as_bytes()).unwrap_err().to_string();
+            assert!(e.contains(needle), "{json}: {e}");
+        }
     }
 
     #[test]

@@ -160,7 +160,7 @@ fn parse_eps_b(s: &str) -> Result<EpsBMode> {
 /// Runs the tool.
 pub fn run(args: Args) -> Result<Outcome> {
     if args.list_refs {
-        print!("{}", list::table());
+        pellet_cli::print_stdout(&list::table())?;
         return Ok(Outcome::Success);
     }
     let out_dir = args.output.clone().context("-o DIR is required")?;
@@ -188,6 +188,12 @@ pub fn run(args: Args) -> Result<Outcome> {
     if profile_paths.iter().chain(&args.exp).chain(&args.summaries).filter(|p| *p == "-").count() > 1 {
         bail!("only one input can be read from stdin (-)");
     }
+    // Every file the report may write into -o DIR.
+    let written = ["scores.json", "scores.csv", "report.md", "profile.png", "profile.svg"]
+        .into_iter()
+        .chain(["porosity_vs_n.png", "porosity_vs_n.svg"])
+        .map(|n| ("-o".to_string(), out_dir.join(n).display().to_string()));
+    pellet_cli::refuse_overwriting_inputs(profile_paths.iter().chain(&args.exp).chain(&args.summaries), written)?;
     let unit = match args.wall_unit {
         WallUnit::Dp => ZUnit::Dp,
         WallUnit::Dpv => ZUnit::Dpv,
@@ -263,7 +269,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     for g in &unused {
         eprintln!("compare: warning: gate {}={} applies to no gated score", g.metric, g.limit);
     }
-    print!("{}", report::stdout_summary(&scores, &violations, &out_dir, &plot_paths));
+    pellet_cli::print_stdout(&report::stdout_summary(&scores, &violations, &out_dir, &plot_paths))?;
     Ok(if violations.is_empty() { Outcome::Success } else { Outcome::CheckFailed })
 }
 

@@ -226,9 +226,12 @@ impl Unit {
 pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let (shape, out) = match args.command {
         Command::Info { input, json, density, stl, obj } => {
+            pellet_cli::refuse_overwriting_inputs([&input], mesh_flags(stl.as_deref(), obj.as_deref()))?;
             return info::run(&input, json, density, stl.as_deref(), obj.as_deref());
         }
         Command::Import { input, unit, output, stl, obj } => {
+            let outputs = std::iter::once(("-o".to_string(), output.clone()));
+            pellet_cli::refuse_overwriting_inputs([&input], outputs.chain(mesh_flags(stl.as_deref(), obj.as_deref())))?;
             let pellet = import(&input, unit)?;
             write_pellet(&pellet, &output, stl.as_deref(), obj.as_deref())?;
             return Ok(Outcome::Success);
@@ -323,6 +326,10 @@ fn write_pellet(pellet: &Pellet, output: &str, stl: Option<&str>, obj: Option<&s
         eprintln!("mkpellet: note: {note}");
     }
     Ok(())
+}
+
+fn mesh_flags(stl: Option<&str>, obj: Option<&str>) -> Vec<(String, String)> {
+    [("--stl", stl), ("--obj", obj)].into_iter().filter_map(|(f, p)| Some((f.to_string(), p?.to_string()))).collect()
 }
 
 /// The `--stl` / `--obj` exports of a pellet's mesh, in millimetres.

@@ -134,7 +134,7 @@ fn info_rejects_files_that_are_not_pellets() {
     assert_eq!(good.status.code(), Some(0));
     let bytes = std::fs::read(dir.path().join("s.pellet")).unwrap();
     std::fs::write(dir.path().join("cut.pellet"), &bytes[..bytes.len() / 2]).unwrap();
-    assert_error(&mkpellet(dir.path(), &["info", "cut.pellet"]), "truncated or corrupt");
+    assert_error(&mkpellet(dir.path(), &["info", "cut.pellet"]), "is truncated (its data ends early)");
     let mut future = bytes.clone();
     future[8] = 99;
     std::fs::write(dir.path().join("future.pellet"), &future).unwrap();

@@ -36,8 +36,9 @@ A case file (TOML, or JSON starting with '{') holds any of the flags below,
 spelled the same: tube-diameter = 69.83, fill-height = 120, scheme = \"sock\", ...
 Relative paths in it (pellet, output) are relative to the case file's directory.
 Lengths in mm, times in s, angles in degrees. Then: settle-check bed.mcap -o bed.packing.
-Exit codes: 0 settled, 2 error (also: time limit reached before settling, or interrupted;
-the trajectory is complete and readable in every case, and --resume continues it).";
+Exit codes: 0 settled, 1 not settled within --max-time (as settle-check's 1), 2 error
+(also: interrupted). After a 1 or an interrupt the trajectory is complete and readable,
+and --resume continues it.";
 
 /// Drop pellets into a tube with the hard-contact rigid-body engine until the
 /// bed settles, streaming the trajectory to an MCAP file.
@@ -98,7 +99,7 @@ pub struct Args {
     /// Shortest time between two pellets entering (s) [default: 0.02].
     #[arg(long, value_name = "S")]
     spacing: Option<f64>,
-    /// Interval between recorded pose frames (s) [default: 0.01].
+    /// Interval between recorded pose frames (s; a whole number of the 0.005 s engine steps) [default: 0.01].
     #[arg(long, value_name = "S")]
     record_every: Option<f64>,
     /// Record pellet velocities in the pose frames.
@@ -127,7 +128,7 @@ pub struct Args {
     /// [default: acceleration].
     #[arg(long, value_enum)]
     stepper: Option<StepperArg>,
-    /// Simulated time limit (s) [default: 120].
+    /// Simulated time limit (s; a whole number of the 0.005 s engine steps) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
     /// Settle-test window (s) [default: 0.15].
@@ -155,6 +156,10 @@ pub struct Args {
     /// output on another machine and `pack --resume` goes on from its checkpoint.
     #[arg(long, value_name = "FILE", conflicts_with = "resume")]
     park: Option<String>,
+    /// Start over even when a killed run of this output (`<output>.part` or `<output>.resume`)
+    /// is there: without --resume or --force, pack refuses and keeps it.
+    #[arg(long, conflicts_with_all = ["resume", "park"])]
+    force: bool,
     /// No progress output.
     #[arg(short, long)]
     quiet: bool,
@@ -279,6 +284,14 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if output == "-" {
         bail!("pack writes its trajectory to a file (it is renamed into place when complete); give -o FILE");
     }
+    // The run writes <output>.part, .resume and .lock beside the output, and --park a copy.
+    let written =
+        ["", ".part", ".resume", ".lock"].into_iter().map(|suffix| ("-o".to_string(), format!("{output}{suffix}")));
+    let parked = args.park.iter().map(|p| ("--park".to_string(), p.clone()));
+    pellet_cli::refuse_overwriting_inputs(args.case.iter().chain([&config.pellet]), written.chain(parked.clone()))?;
+    // --park reads the partial run it copies.
+    let runs = ["", ".part", ".resume"].map(|suffix| format!("{output}{suffix}"));
+    pellet_cli::refuse_overwriting_inputs(&runs, parked)?;
     let pellet_bytes = pellet_io::read_input(&config.pellet)?;
     let pellet = pellet_io::decode_pellet(&pellet_bytes, &config.pellet)?.pellet;
 
@@ -302,8 +315,11 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         };
         let t = source.park(Path::new(park))?;
         let bytes = std::fs::metadata(park).map(|m| m.len()).unwrap_or(0);
-        println!("parked the run of {output} at its checkpoint t = {t:.3} s in {park} ({bytes} bytes); to go on, copy it to {output} and run pack --resume");
+        pellet_cli::print_stdout(&format!("parked the run of {output} at its checkpoint t = {t:.3} s in {park} ({bytes} bytes); to go on, copy it to {output} and run pack --resume\n"))?;
         return Ok(Outcome::Success);
+    }
+    if !args.resume && !args.force {
+        refuse_to_drop_a_killed_run(&output)?;
     }
     let source = if args.resume {
         resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?
@@ -373,18 +389,37 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     }
     match summary.ending {
         Ending::Settled => {
-            println!("settled at {:.4} s", summary.settle.settle_time_s.unwrap_or(summary.time_s));
+            let t = summary.settle.settle_time_s.unwrap_or(summary.time_s);
+            pellet_cli::print_stdout(&format!("settled at {t:.4} s\n"))?;
             Ok(Outcome::Success)
         }
-        Ending::TimeLimit => bail!(
-            "the bed did not settle within --max-time {} s ({}); the trajectory is in {output}",
-            config.max_time_s,
-            summary.settle.reason.unwrap_or_default()
-        ),
+        Ending::TimeLimit => {
+            // Not an error: the settle test said no, as settle-check's exit 1 does.
+            eprintln!(
+                "pack: not settled: the bed did not settle within --max-time {} s ({}); the trajectory is in {output}",
+                config.max_time_s,
+                summary.settle.reason.unwrap_or_default()
+            );
+            Ok(Outcome::CheckFailed)
+        }
         Ending::Interrupted => {
             bail!("interrupted at t = {:.3} s; the trajectory so far is in {output}", summary.time_s)
         }
     }
+}
+
+/// A killed run's `<output>.part` (or a killed resume's `.resume`) is the only copy of what it
+/// simulated; starting over would truncate it.
+fn refuse_to_drop_a_killed_run(output: &str) -> anyhow::Result<()> {
+    for suffix in [".part", ".resume"] {
+        let partial = format!("{output}{suffix}");
+        if Path::new(&partial).is_file() {
+            bail!(
+                "{partial} holds a killed run of {output}; add --resume to continue it, or remove it (or add --force) to start over"
+            );
+        }
+    }
+    Ok(())
 }
 
 /// How tall to draw the tube in the viewer (m): the fill height or the height of

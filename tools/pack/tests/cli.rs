@@ -46,8 +46,8 @@ fn a_short_run_writes_a_readable_deterministic_trajectory() {
     let mut a: Vec<&str> = SHORT.to_vec();
     a.extend(["--seed", "7", "-o", "a.mcap"]);
     let out = pack(dir.path(), &a);
-    // 0.4 s is too short to settle: exit 2, but the trajectory is complete.
-    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    // 0.4 s is too short to settle: exit 1 (not settled), but the trajectory is complete.
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stderr).contains("did not settle within --max-time"));
     let bytes = std::fs::read(dir.path().join("a.mcap")).unwrap();
     let t = pellet_io::read_trajectory(&bytes, "a.mcap").unwrap();
@@ -126,7 +126,7 @@ fn foxglove_channels_place_every_pellet_of_every_frame() {
     let mut a: Vec<&str> = SHORT.to_vec();
     a.extend(["--seed", "2", "--foxglove", "-o", "v.mcap"]);
     let out = pack(dir.path(), &a);
-    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
     let bytes = std::fs::read(dir.path().join("v.mcap")).unwrap();
     // The packbed reader still sees its own channels.
     let t = pellet_io::read_trajectory(&bytes, "v.mcap").unwrap();
@@ -211,12 +211,12 @@ fn case_file_paths_are_relative_to_the_case_file() {
     )
     .unwrap();
     let out = pack(dir.path(), &["--case", "cases/c.toml", "--quiet"]);
-    // Too short to settle (exit 2), but read the pellet beside the case and wrote beside it.
-    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    // Too short to settle (exit 1), but read the pellet beside the case and wrote beside it.
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(dir.path().join("cases/c.mcap").exists());
     // A flag stays relative to the working directory.
     let out = pack(dir.path(), &["--case", "cases/c.toml", "--quiet", "-o", "top.mcap"]);
-    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(dir.path().join("top.mcap").exists());
 }
 
@@ -251,7 +251,7 @@ fn pack_owned(dir: &Path, args: &[String]) -> Output {
 fn resume_continues_a_stopped_or_killed_run_exactly() {
     let dir = setup();
     let d = dir.path();
-    assert_eq!(pack_owned(d, &resumable("0.9", "whole.mcap")).status.code(), Some(2));
+    assert_eq!(pack_owned(d, &resumable("0.9", "whole.mcap")).status.code(), Some(1));
     let whole = read(d, "whole.mcap");
     assert!(whole.checkpoint.is_some());
 
@@ -260,12 +260,12 @@ fn resume_continues_a_stopped_or_killed_run_exactly() {
         let mut again = resumable("0.9", output);
         again.push("--resume".into());
         let out = pack_owned(d, &again);
-        assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+        assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
         read(d, output)
     };
 
     // Past the time limit.
-    assert_eq!(pack_owned(d, &resumable("0.45", "a.mcap")).status.code(), Some(2));
+    assert_eq!(pack_owned(d, &resumable("0.45", "a.mcap")).status.code(), Some(1));
     let a = resume_to_the_end("a.mcap");
     assert_eq!(a.frames, whole.frames);
     assert_eq!(a.energy, whole.energy);
@@ -294,9 +294,9 @@ fn resume_continues_a_stopped_or_killed_run_exactly() {
 fn a_parked_run_resumes_elsewhere_exactly() {
     let dir = setup();
     let d = dir.path();
-    assert_eq!(pack_owned(d, &resumable("0.9", "whole.mcap")).status.code(), Some(2));
+    assert_eq!(pack_owned(d, &resumable("0.9", "whole.mcap")).status.code(), Some(1));
     let whole = read(d, "whole.mcap");
-    assert_eq!(pack_owned(d, &resumable("0.45", "p.mcap")).status.code(), Some(2));
+    assert_eq!(pack_owned(d, &resumable("0.45", "p.mcap")).status.code(), Some(1));
     let before = std::fs::read(d.join("p.mcap")).unwrap();
 
     let mut park = resumable("0.45", "p.mcap");
@@ -323,7 +323,7 @@ fn a_parked_run_resumes_elsewhere_exactly() {
     let mut again = resumable("0.9", "p.mcap");
     again.push("--resume".into());
     let out = pack_owned(&other, &again);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     let resumed = read(&other, "p.mcap");
     // The parked frame, then every frame of the uninterrupted run after it.
     let kept = parked.frames[0].time_s;
@@ -347,7 +347,7 @@ fn a_parked_run_resumes_elsewhere_exactly() {
 fn resume_refuses_what_it_cannot_continue() {
     let dir = setup();
     let d = dir.path();
-    assert_eq!(pack_owned(d, &resumable("0.3", "r.mcap")).status.code(), Some(2));
+    assert_eq!(pack_owned(d, &resumable("0.3", "r.mcap")).status.code(), Some(1));
     let mut other = resumable("0.6", "r.mcap");
     other.extend(["--cor", "0.5", "--resume"].map(String::from));
     let out = pack_owned(d, &other);
@@ -400,7 +400,7 @@ fn a_second_pack_on_the_same_output_is_refused() {
     // Released (as by a killed run): the stale file is locked again, and removed at the end.
     drop(held);
     std::fs::remove_file(d.join("o.mcap.part")).unwrap();
-    assert_eq!(pack_owned(d, &args).status.code(), Some(2), "ends at its --max-time");
+    assert_eq!(pack_owned(d, &args).status.code(), Some(1), "ends at its --max-time");
     assert!(read(d, "o.mcap").checkpoint.is_some());
     assert!(!d.join("o.mcap.lock").exists() && !d.join("o.mcap.part").exists());
 }

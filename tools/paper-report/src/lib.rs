@@ -155,7 +155,10 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     pellet_io::write_outputs(&outputs)?;
     let done = collect::distinct_beds(&groups).len();
     let missing = collect::distinct_missing(&groups).len();
-    println!("paper-report: {done} beds finished, {missing} missing; wrote {}", out.join("README.md").display());
+    pellet_cli::print_stdout(&format!(
+        "paper-report: {done} beds finished, {missing} missing; wrote {}\n",
+        out.join("README.md").display()
+    ))?;
     Ok(Outcome::Success)
 }
 

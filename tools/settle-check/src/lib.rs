@@ -67,6 +67,11 @@ pub struct Args {
 
 /// Runs `settle-check`.
 pub fn run(args: Args) -> anyhow::Result<Outcome> {
+    let outputs = [("-o", &args.output), ("--csv", &args.csv)];
+    pellet_cli::refuse_overwriting_inputs(
+        [&args.input],
+        outputs.iter().filter_map(|(f, p)| p.as_ref().map(|p| (f.to_string(), p.clone()))),
+    )?;
     let bytes = pellet_io::read_input(&args.input)?;
     let trajectory = pellet_io::read_trajectory(&bytes, &args.input)?;
     if let Some(why) = &trajectory.truncated {
@@ -148,7 +153,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if stdout_taken {
         eprint!("{report_text}");
     } else {
-        print!("{report_text}");
+        pellet_cli::print_stdout(&report_text)?;
     }
     Ok(if report.settled { Outcome::Success } else { Outcome::CheckFailed })
 }

@@ -18,6 +18,7 @@ use pellet_geom::{Bed, Tube};
 use pellet_io::OutputFile;
 
 mod output;
+mod poses;
 
 const MM: f64 = 1e-3;
 
@@ -126,6 +127,12 @@ pub struct Measurement {
 
 /// Runs `voidprof`.
 pub fn run(args: Args) -> anyhow::Result<Outcome> {
+    let inputs = args.packings.iter().chain(&args.poses).chain(&args.pellet);
+    let singles = [("--summary", &args.summary), ("--axial", &args.axial), ("--spread", &args.spread)];
+    let outputs = std::iter::once(("-o".to_string(), args.output.clone()))
+        .chain(singles.iter().filter_map(|(f, p)| p.as_ref().map(|p| (f.to_string(), p.clone()))))
+        .chain(args.plot.iter().map(|p| ("--plot".to_string(), p.clone())));
+    pellet_cli::refuse_overwriting_inputs(inputs, outputs)?;
     let beds = read_beds(&args)?;
     let m = measure(&args, beds)?;
     let mut outputs = vec![OutputFile {
@@ -202,6 +209,13 @@ pub fn read_beds(args: &Args) -> anyhow::Result<Vec<(String, Bed)>> {
             pellets: poses,
         };
         bed.validate().with_context(|| poses_path.clone())?;
+        if bed.pellets.is_empty() {
+            bail!("{poses_path}: no pellet poses (the file holds no data rows)");
+        }
+        let (dp, _) = reference_diameters(&bed).with_context(|| poses_path.clone())?;
+        if let Some(warning) = poses::check(&bed, poses_path, dp)? {
+            eprintln!("voidprof: warning: {warning}");
+        }
         return Ok(vec![(poses_path.clone(), bed)]);
     }
     if args.packings.is_empty() {

@@ -233,7 +233,7 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
     let outs = ["-o", "p.csv", "--summary", "s.json"];
     let cases: &[(&[&str], &str)] = &[
         (&["missing.packing"], "missing.packing"),
-        (&["cut.packing", "--window", "0,30"], "truncated or corrupt"),
+        (&["cut.packing", "--window", "0,30"], "is truncated (its data ends early)"),
         (&["text.packing"], "not a packbed packing file"),
         // The default window (0 to 100 mm) is above a 30 mm bed.
         (&["bed.packing"], "outside the bed"),
