@@ -2,9 +2,10 @@
 # `make test` runs formatting, lints, docs and every test.
 CARGO ?= cargo
 OUT ?= out
-BIN := target/release
+# Where cargo puts the release build (CARGO_TARGET_DIR if set).
+BIN := $(or $(CARGO_TARGET_DIR),target)/release
 
-.PHONY: all build pipeline test lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
+.PHONY: all build pipeline test test-slurm lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
 
 all: pipeline
 
@@ -24,6 +25,12 @@ doc:
 test: lint doc
 	$(CARGO) build --workspace --bins
 	$(CARGO) test --workspace
+
+# The pipelines on a real one-node Slurm started for the test (Debian's
+# slurm-wlm and munge), against the same runs made locally (tests/slurm/test.sh;
+# about 2 min). Fails when Slurm cannot start.
+test-slurm: build
+	sh tests/slurm/test.sh $(BIN)
 
 # Speed figures (not tests): the engine pouring spheres, cylinders and rings
 # with pack's contact model (PELLET_BENCH_CASES / _SIM_SECONDS / _WALL_SECONDS /

@@ -11,6 +11,8 @@ PELLETS := $(OUT)/sphere.pellet $(OUT)/cylinder.pellet $(OUT)/ring.pellet
 # simulated time; the profile is counted over the bottom 25 mm of the bed.
 BED_ARGS ?= --tube-diameter 40 --count 40 --seed 1
 WINDOW ?= 0,25
+# SCHEDULER=slurm: the bed's stages as Slurm jobs ($(call sched,bed) below).
+include $(patsubst %/,%,$(dir $(lastword $(MAKEFILE_LIST))))/slurm/sched.mk
 
 # A recipe that fails leaves no target behind: settle-check exits 1 on a bed
 # that did not settle, after writing its last frame, which must not be scored.
@@ -42,18 +44,18 @@ $(OUT)/ring.pellet: $(BIN)/mkpellet | $(OUT)
 # interrupted or killed run, or one past its --max-time, stays there for the
 # next make's --resume instead of becoming bed.mcap.
 $(OUT)/bed.mcap: $(OUT)/sphere.pellet $(BIN)/pack
-	$(BIN)/pack --pellet $< $(BED_ARGS) -o $(OUT)/bed.run.mcap --resume
+	$(call sched,bed) $(BIN)/pack --pellet $< $(BED_ARGS) -o $(OUT)/bed.run.mcap --resume
 	mv $(OUT)/bed.run.mcap $@
 
 $(OUT)/bed.packing: $(OUT)/bed.mcap $(BIN)/settle-check
-	$(BIN)/settle-check $< -o $@ --csv $(OUT)/poses.csv
+	$(call sched,bed) $(BIN)/settle-check $< -o $@ --csv $(OUT)/poses.csv
 
 $(OUT)/profile.csv: $(OUT)/bed.packing $(BIN)/voidprof
-	$(BIN)/voidprof $< --window $(WINDOW) -o $@ --summary $(OUT)/summary.json --plot $(OUT)/profile.png
+	$(call sched,bed) $(BIN)/voidprof $< --window $(WINDOW) -o $@ --summary $(OUT)/summary.json --plot $(OUT)/profile.png
 
 $(OUT)/report/scores.json: $(OUT)/profile.csv $(BIN)/compare
-	$(BIN)/compare --profile $< --summary $(OUT)/summary.json --ref mueller-1992,de-klerk-2003,dixon-1988 -o $(OUT)/report/
+	$(call sched,bed) $(BIN)/compare --profile $< --summary $(OUT)/summary.json --ref mueller-1992,de-klerk-2003,dixon-1988 -o $(OUT)/report/
 
 # The export for CFD and LBM codes (tools/bedexport/README.md).
 $(OUT)/bed.stl: $(OUT)/bed.packing $(BIN)/bedexport
-	$(BIN)/bedexport $< --stl $@ --tube-stl $(OUT)/tube.stl --vtk $(OUT)/bed.vtp --vtk-centres $(OUT)/centres.vtp --voxels $(OUT)/bed.raw
+	$(call sched,bed) $(BIN)/bedexport $< --stl $@ --tube-stl $(OUT)/tube.stl --vtk $(OUT)/bed.vtp --vtk-centres $(OUT)/centres.vtp --voxels $(OUT)/bed.raw

@@ -33,6 +33,8 @@ THIS := $(lastword $(MAKEFILE_LIST))
 HERE := $(patsubst %/,%,$(dir $(THIS)))/paper
 RUNS := $(OUT)/runs
 CASES := $(OUT)/cases
+# SCHEDULER=slurm: each bed's stages as Slurm jobs ($(call sched,<id>) below).
+include $(patsubst %/,%,$(dir $(THIS)))/slurm/sched.mk
 
 ids = $(shell awk -F, -v study=$(1) -v repeats=$(REPEATS) -f $(HERE)/ids.awk $(TABLE))
 done_of = $(patsubst %,$(ARCHIVE)/%.summary.json,$(1))
@@ -104,19 +106,19 @@ $(RUNS)/%.mcap: $(CASES)/%.toml $(PELLETS) | $(RUNS)
 	  if [ -z "$$partial" ]; then rm -f $(RUNS)/$*.pack.time; \
 	  if [ -f $(PARKED)/$*.run.mcap ]; then cp $(PARKED)/$*.run.mcap $(RUNS)/$*.run.mcap; \
 	  if [ -f $(PARKED)/$*.pack.time ]; then cp $(PARKED)/$*.pack.time $(RUNS)/$*.pack.time; fi; fi; fi
-	sh $(HERE)/timed.sh -a $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --resume --quiet \
+	$(call sched,$*) sh $(HERE)/timed.sh -a $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --resume --quiet \
 	  2> $(RUNS)/$*.pack.err || { cat $(RUNS)/$*.pack.err >&2; grep -q 'did not settle within --max-time' $(RUNS)/$*.pack.err; }
 	rm -f $(RUNS)/$*.pack.err
 	mv $(RUNS)/$*.run.mcap $@
 
 # settle-check exits 1 for a bed that did not settle: its last frame is kept.
 $(RUNS)/%.packing: $(RUNS)/%.mcap
-	sh $(HERE)/timed.sh $(RUNS)/$*.settle.time $(NICE) $(BIN)/settle-check $< -o $@ --csv $(RUNS)/$*.poses.csv \
+	$(call sched,$*) sh $(HERE)/timed.sh $(RUNS)/$*.settle.time $(NICE) $(BIN)/settle-check $< -o $@ --csv $(RUNS)/$*.poses.csv \
 	  --json > $(RUNS)/$*.settle.json.tmp || test $$? -eq 1
 	mv $(RUNS)/$*.settle.json.tmp $(RUNS)/$*.settle.json
 
 $(RUNS)/%.summary.json: $(RUNS)/%.packing
-	sh $(HERE)/timed.sh $(RUNS)/$*.voidprof.time $(NICE) $(BIN)/voidprof $< \
+	$(call sched,$*) sh $(HERE)/timed.sh $(RUNS)/$*.voidprof.time $(NICE) $(BIN)/voidprof $< \
 	  --window $$(sed -n 's/^# voidprof-window: //p' $(CASES)/$*.toml) -o $(RUNS)/$*.profile.csv --summary $@
 
 # The record: the run's small files, the summary last (it marks the record

@@ -21,6 +21,8 @@ WINDOW ?= 0,80
 INNER ?= 20,80
 # Writes "<wall seconds> <exit code>" of a command (shared with the paper study).
 TIMED := $(patsubst %/,%,$(dir $(lastword $(MAKEFILE_LIST))))/paper/timed.sh
+# SCHEDULER=slurm: each bed's stages as Slurm jobs ($(call sched,<variant>) below).
+include $(patsubst %/,%,$(dir $(lastword $(MAKEFILE_LIST))))/slurm/sched.mk
 
 # Variant name → pack flags on top of the T14 bed (seed 1 unless given).
 # base: the T14 bed (recommended model: static friction at resting contacts,
@@ -72,18 +74,18 @@ $(OUT)/sphere.pellet: | $(OUT)
 $(OUT)/%/bed.mcap: $(OUT)/sphere.pellet
 	mkdir -p $(@D)
 	rm -f $(@D)/run.mcap
-	sh $(TIMED) $(@D)/pack.time $(NICE) $(BIN)/pack --pellet $< --tube-diameter $(TUBE) \
+	$(call sched,$*) sh $(TIMED) $(@D)/pack.time $(NICE) $(BIN)/pack --pellet $< --tube-diameter $(TUBE) \
 	  --count $(COUNT) --scheme batch $(flags_$*) -o $(@D)/run.mcap --quiet || test -f $(@D)/run.mcap
 	mv $(@D)/run.mcap $@
 
 # settle-check exits 1 for a bed that did not settle: its last frame is kept.
 $(OUT)/%/bed.packing: $(OUT)/%/bed.mcap
-	$(BIN)/settle-check $< -o $@ --json > $(@D)/settle.json.tmp || test $$? -eq 1
+	$(call sched,$*) $(BIN)/settle-check $< -o $@ --json > $(@D)/settle.json.tmp || test $$? -eq 1
 	mv $(@D)/settle.json.tmp $(@D)/settle.json
 
 $(OUT)/%/summary.json: $(OUT)/%/bed.packing
-	$(BIN)/voidprof $< --window $(INNER) -o $(@D)/profile-inner.csv --summary $(@D)/summary-inner.json
-	$(BIN)/voidprof $< --window $(WINDOW) -o $(@D)/profile.csv --summary $@
+	$(call sched,$*) $(BIN)/voidprof $< --window $(INNER) -o $(@D)/profile-inner.csv --summary $(@D)/summary-inner.json
+	$(call sched,$*) $(BIN)/voidprof $< --window $(WINDOW) -o $(@D)/profile.csv --summary $@
 
 comma := ,
 json = $$(sed -n 's/^  "$(2)": \([^,]*\),*$$/\1/p' $(1) | head -1)

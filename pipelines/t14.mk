@@ -11,6 +11,8 @@ OUT ?= out/t14
 SEED ?= 1
 # Bulk porosity and profile over z = 0–80 mm of a bed about 110 mm tall.
 WINDOW := 0,80
+# SCHEDULER=slurm: the bed's stages as Slurm jobs ($(call sched,bed) below).
+include $(patsubst %/,%,$(dir $(lastword $(MAKEFILE_LIST))))/slurm/sched.mk
 
 .PHONY: all
 all: $(OUT)/report/scores.json
@@ -33,14 +35,14 @@ $(OUT)/sphere.pellet: | $(OUT)
 	$(BIN)/mkpellet sphere --diameter 10 -o $@
 
 $(OUT)/bed.mcap: $(OUT)/sphere.pellet
-	$(BIN)/pack --pellet $< --tube-diameter 100 --count 1000 --scheme batch --seed $(SEED) -o $@
+	$(call sched,bed) $(BIN)/pack --pellet $< --tube-diameter 100 --count 1000 --scheme batch --seed $(SEED) -o $@
 
 $(OUT)/bed.packing: $(OUT)/bed.mcap
-	$(BIN)/settle-check $< -o $@ --csv $(OUT)/poses.csv --json > $(OUT)/settle.json
+	$(call sched,bed) $(BIN)/settle-check $< -o $@ --csv $(OUT)/poses.csv --json > $(OUT)/settle.json
 
 $(OUT)/profile.csv: $(OUT)/bed.packing
-	$(BIN)/voidprof $< --window $(WINDOW) -o $@ --summary $(OUT)/summary.json
+	$(call sched,bed) $(BIN)/voidprof $< --window $(WINDOW) -o $@ --summary $(OUT)/summary.json
 
 $(OUT)/report/scores.json: $(OUT)/profile.csv
-	$(BIN)/compare --profile $< --summary $(OUT)/summary.json \
+	$(call sched,bed) $(BIN)/compare --profile $< --summary $(OUT)/summary.json \
 	  --ref dixon-1988,foumeny-1993,benyahia-oneill-2005,cheng-2011,sato-1973,de-klerk-2003,mueller-1992 -o $(OUT)/report/
