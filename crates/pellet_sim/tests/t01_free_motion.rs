@@ -8,8 +8,16 @@ use pellet_sim::{Body, BodyType, Container, EngineParams, Mat3, Pipeline, Quat, 
 
 #[test]
 fn t1_free_fall_is_exact() {
-    let (mut w, t) =
-        sphere_world(Container::tube(1.0).unwrap(), 0.005, material(0.5, 0.3), wall(0.5, 0.3), EngineParams::default());
+    free_fall(EngineParams::default());
+}
+
+#[test]
+fn t1_free_fall_is_exact_velocity_stepper() {
+    free_fall(EngineParams { stepper: pellet_sim::Stepper::Velocity, ..EngineParams::default() });
+}
+
+fn free_fall(params: EngineParams) {
+    let (mut w, t) = sphere_world(Container::tube(1.0).unwrap(), 0.005, material(0.5, 0.3), wall(0.5, 0.3), params);
     let x0 = Vec3::new(0.01, -0.02, 10.0);
     let v0 = Vec3::new(0.3, -0.2, 1.0);
     let id = add(&mut w, t, x0, v0, Vec3::zeros());

@@ -2,11 +2,12 @@
 
 mod common;
 use common::*;
-use pellet_sim::{Container, EngineParams, FrictionClamp, Pipeline, Vec3};
+use pellet_sim::{Container, EngineParams, FrictionClamp, Pipeline, Stepper, Vec3};
 
-fn head_on(e: f64) {
+fn head_on(e: f64, stepper: Stepper) {
     let (r1, r2) = (0.005, 0.007);
-    let (mut w, t1) = sphere_world(Container::tube(0.3).unwrap(), r1, material(e, 0.0), wall(e, 0.0), zero_gravity());
+    let params = EngineParams { stepper, ..zero_gravity() };
+    let (mut w, t1) = sphere_world(Container::tube(0.3).unwrap(), r1, material(e, 0.0), wall(e, 0.0), params);
     let t2 = w.register_type(pellet_sim::BodyType::solid_sphere(r2).unwrap()).unwrap();
     let (v1, v2) = (1.0, -0.5);
     let a = add(&mut w, t1, Vec3::new(-0.02, 0.0, 0.1), Vec3::new(v1, 0.0, 0.0), Vec3::zeros());
@@ -33,12 +34,22 @@ fn head_on(e: f64) {
 
 #[test]
 fn t3_head_on_elastic() {
-    head_on(1.0);
+    head_on(1.0, Stepper::Acceleration);
+}
+
+#[test]
+fn t3_head_on_elastic_velocity_stepper() {
+    head_on(1.0, Stepper::Velocity);
+}
+
+#[test]
+fn t3_head_on_inelastic_velocity_stepper() {
+    head_on(0.7, Stepper::Velocity);
 }
 
 #[test]
 fn t3_head_on_inelastic() {
-    head_on(0.7);
+    head_on(0.7, Stepper::Acceleration);
 }
 
 #[test]

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use pellet_sim::{Container, EngineParams, FrictionClamp, Pipeline, Vec3};
+use pellet_sim::{Container, EngineParams, FrictionClamp, Pipeline, Stepper, Vec3};
 
 struct Rolling {
     t_r: f64,
@@ -76,6 +76,13 @@ fn t7_rolling_paper_mode() {
 #[test]
 fn t7_rolling_paper_mode_stick_clamp() {
     check_rolling("paper+stick", EngineParams { friction_clamp: FrictionClamp::Stick, ..EngineParams::default() });
+}
+
+/// The velocity-level stepper: Coulomb's cone in the impulse solve, so the slip ends at zero,
+/// not at εf; the checks are the same (εf's share of t_r is 0.3 %).
+#[test]
+fn t7_rolling_velocity_stepper() {
+    check_rolling("velocity", EngineParams { stepper: Stepper::Velocity, ..EngineParams::default() });
 }
 
 #[test]
