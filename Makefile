@@ -42,6 +42,8 @@ bench:
 	  $(CARGO) bench -p pellet_sim --bench pack_beds
 	$(CARGO) run --release -p pellet_analysis --example bench_voidprof
 	$(CARGO) run --release -p pellet_export --example bench_export
+	$(CARGO) build --release --workspace --bins
+	bash pipelines/bench-steppers.sh $(BIN)
 
 # physics.md T14 (not a test: minutes of one core): 1000 spheres in a 100 mm
 # tube, batch loading, scored against the correlations (pipelines/t14.mk).

@@ -188,3 +188,36 @@ pub fn resume_conflicts(recorded_json: &str, config: &PackConfig) -> Vec<String>
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::{PackOptions, Stepper};
+
+    fn config(stepper: Option<Stepper>) -> PackConfig {
+        let o = PackOptions {
+            pellet: Some("s.pellet".into()),
+            tube_diameter: Some(40.0),
+            count: Some(10),
+            stepper,
+            ..Default::default()
+        };
+        PackConfig::resolve(&o).unwrap()
+    }
+
+    /// A run recorded before the stepper could be chosen was the force-level stepper's: it
+    /// resumes with that one, and is refused with the other, naming the setting.
+    #[test]
+    fn a_run_resumes_only_with_its_own_stepper() {
+        let mut old = serde_json::to_value(config(None)).unwrap();
+        old.as_object_mut().unwrap().remove("stepper");
+        let old = old.to_string();
+        assert!(resume_conflicts(&old, &config(Some(Stepper::Acceleration))).is_empty());
+        let refused = resume_conflicts(&old, &config(Some(Stepper::Velocity)));
+        assert_eq!(refused.len(), 1, "{refused:?}");
+        assert!(refused[0].starts_with("stepper:") && refused[0].contains("velocity"), "{refused:?}");
+        let velocity = serde_json::to_string(&config(Some(Stepper::Velocity))).unwrap();
+        assert!(resume_conflicts(&velocity, &config(Some(Stepper::Velocity))).is_empty());
+        assert_eq!(resume_conflicts(&velocity, &config(Some(Stepper::Acceleration))).len(), 1);
+    }
+}

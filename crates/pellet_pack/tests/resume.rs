@@ -6,7 +6,7 @@ mod common;
 
 use pellet_geom::{Pellet, Resolution, ShapeSpec};
 use pellet_io::{EnergyRecord, Frame};
-use pellet_pack::{resume_pack, run_pack, Checkpoint, Ending, PackConfig, RunSink};
+use pellet_pack::{resume_pack, run_pack, Checkpoint, Ending, PackConfig, RunSink, Stepper};
 
 /// Records everything; asks to stop after `stop_after` energy records.
 #[derive(Default)]
@@ -40,7 +40,12 @@ fn cylinder() -> Pellet {
 }
 
 fn config(max_time: f64) -> PackConfig {
+    config_with(max_time, Stepper::Acceleration)
+}
+
+fn config_with(max_time: f64, stepper: Stepper) -> PackConfig {
     common::pack_config(30.0, 6, |o| {
+        o.stepper = Some(stepper);
         o.max_time = Some(max_time);
         o.checkpoint_every = Some(0.1);
         o.record_every = Some(0.02);
@@ -60,6 +65,17 @@ const LIMIT: f64 = 0.6;
 
 #[test]
 fn a_resumed_run_equals_the_uninterrupted_one() {
+    resumed_equals_whole(Stepper::Acceleration);
+}
+
+/// The velocity-level stepper's checkpoints carry its warm impulses and pending approaches.
+#[test]
+fn a_resumed_run_equals_the_uninterrupted_one_velocity_stepper() {
+    resumed_equals_whole(Stepper::Velocity);
+}
+
+fn resumed_equals_whole(stepper: Stepper) {
+    let config = |t| config_with(t, stepper);
     let pellet = cylinder();
     let mut whole = Recorder::default();
     // The limit comes well before the bed settles (at 0.80 s with the engine of 68a6bb6; at

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# The steppers side by side on pack's reference beds, with the peer yardsticks where they are
+# present (../shared/peers/run.sh: LIGGGHTS, rapier), all in one run on one machine:
+#   bash pipelines/bench-steppers.sh [BIN] [CASES]
+# BIN: the release binaries (default target/release). CASES (default "sph690 cyl40"):
+#   sph690  690 spheres of 10 mm, D = 79.9 mm, batch (yardstick: liggghts-690)
+#   cyl40   40 cylinders 10 x 10 mm, D = 40 mm, batch, seeds 1-3
+#   cyl620  620 cylinders 10 x 10 mm, D = 91.58 mm, batch (yardstick: rapier-620; minutes)
+# Prints per run: case, stepper, seed, CPU s (user + system), settle time, porosity, and the
+# CPU ratio to the yardstick when there is one.
+set -euo pipefail
+BIN=${1:-target/release}
+CASES=${2:-sph690 cyl40}
+here=$(cd "$(dirname "$0")" && pwd)
+peers="$here/../../shared/peers/run.sh"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$BIN/mkpellet" sphere --diameter 10 -o "$work/s.pellet" >/dev/null
+"$BIN/mkpellet" cylinder --diameter 10 --height 10 -o "$work/c.pellet" >/dev/null
+
+yardstick() {  # peer case → its CPU seconds, or empty
+  [ -f "$peers" ] || return 0
+  bash "$peers" "$1" 2>/dev/null | awk '{print $3}'
+}
+
+one() {  # label pellet tube count seed stepper window yard
+  local label=$1 pellet=$2 tube=$3 count=$4 seed=$5 stepper=$6 window=$7 yard=$8
+  local t="$work/time" out="$work/run"
+  /usr/bin/time -f "%U %S" -o "$t" "$BIN/pack" --pellet "$work/$pellet" --tube-diameter "$tube" --count "$count" \
+    --scheme batch --seed "$seed" --stepper "$stepper" -o "$out.mcap" >"$work/pack.log" 2>&1 || true
+  local cpu settled porosity
+  cpu=$(awk '{printf "%.2f", $1 + $2}' "$t")
+  settled=$(grep -o 'settled at [0-9.]* s' "$work/pack.log" | awk '{print $3}')
+  porosity=$("$BIN/settle-check" "$out.mcap" -o "$out.packing" >/dev/null 2>&1 &&
+    "$BIN/voidprof" "$out.packing" --window "$window" --summary - -o /dev/null 2>/dev/null |
+    python3 -c 'import json,sys; print("%.4f" % json.load(sys.stdin)["bulk_porosity"])' || echo -)
+  local ratio=-
+  [ -n "$yard" ] && ratio=$(awk -v a="$cpu" -v b="$yard" 'BEGIN{printf "%.2f", a / b}')
+  printf "%-7s %-12s %4s %8s %9s %8s %7s\n" "$label" "$stepper" "$seed" "$cpu" "${settled:-unsettled}" "$porosity" "$ratio"
+}
+
+printf "%-7s %-12s %4s %8s %9s %8s %7s\n" case stepper seed cpu_s settle_s porosity ratio
+for c in $CASES; do
+  case $c in
+    sph690)
+      y=$(yardstick liggghts-690); [ -n "$y" ] && echo "yardstick liggghts-690 cpu_s $y"
+      for s in acceleration velocity; do one sph690 s.pellet 79.9 690 1 $s 0,100 "$y"; done ;;
+    cyl40)
+      for seed in 1 2 3; do for s in acceleration velocity; do one cyl40 c.pellet 40 40 $seed $s 0,40 ""; done; done ;;
+    cyl620)
+      y=$(yardstick rapier-620); [ -n "$y" ] && echo "yardstick rapier-620 cpu_s $y"
+      for s in acceleration velocity; do one cyl620 c.pellet 91.58 620 1 $s 0,100 "$y"; done ;;
+    *) echo "bench-steppers: unknown case $c (sph690, cyl40, cyl620)" >&2; exit 2 ;;
+  esac
+done
