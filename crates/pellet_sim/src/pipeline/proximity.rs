@@ -117,7 +117,7 @@ impl World {
 /// velocity into the wall; for the curved tube wall also what tangential motion adds over one
 /// substep of at most `dt_cap` (second order) and the turn of the wall normal across the body (the nearest
 /// point of a body that is not `round` need not lie on the centre's radius).
-fn wall_closing(container: &Container, wall: WallId, b: &Body, round: bool, dt_cap: Real) -> Real {
+pub(crate) fn wall_closing(container: &Container, wall: WallId, b: &Body, round: bool, dt_cap: Real) -> Real {
     let v = b.velocity();
     match wall {
         WallId::Floor => (-v.z).max(0.0),

@@ -13,7 +13,7 @@ use crate::dynamics::collide::collision_phase;
 use crate::dynamics::integrator::advance;
 use crate::dynamics::resting::resting_phase;
 use crate::dynamics::rows::relative_velocity_from;
-use crate::dynamics::stabilize::{project_positions, GapBounds};
+use crate::dynamics::stabilize::{project_positions, GapBounds, ProjectionStats};
 use crate::error::SimError;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
 use crate::geometry::contact_sampled::gap_jump;
@@ -211,6 +211,28 @@ impl World {
         }
     }
 
+    /// Position projection of the bodies, moved from `generated_at` where `contacts` were
+    /// found (shared by both steppers), timed into `report`.
+    pub(crate) fn project(
+        &mut self,
+        contacts: &[Contact],
+        generated_at: &[Body],
+        bounds: &GapBounds,
+        slop: Real,
+        report: &mut StepReport,
+    ) -> ProjectionStats {
+        let d = self.reference_size();
+        let g = self.params.gravity;
+        let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
+        let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
+        let mut bodies = std::mem::take(&mut self.bodies);
+        let clock = std::time::Instant::now();
+        let proj = project_positions(&mut bodies, contacts, generated_at, &eval, bounds, slop, 0.01 * d, &g);
+        report.wall_seconds[3] += clock.elapsed().as_secs_f64();
+        self.bodies = bodies;
+        proj
+    }
+
     fn narrow_phase(&self, prox: &Proximity, max_gap: Real, cache: &mut SampleCache) -> Result<Vec<Contact>, SimError> {
         // Room for one contact per pair and wall (what sphere beds give) without regrowing, and
         // for other shapes a reduced patch of 4 per pair and 8 per wall (4 points on each of
@@ -345,13 +367,7 @@ impl World {
                 friction_work += ff.dot(&mean) * dt;
                 normal_work += fnormal * c.normal.dot(&mean) * dt;
             }
-            let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
-            let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
-            let mut bodies = std::mem::take(&mut self.bodies);
-            let clock = std::time::Instant::now();
-            let proj = project_positions(&mut bodies, &contacts, &pipeline.saved, &eval, &bounds, slop, 0.01 * d, &g);
-            report.wall_seconds[3] += clock.elapsed().as_secs_f64();
-            self.bodies = bodies;
+            let proj = self.project(&contacts, &pipeline.saved, &bounds, slop, report);
             if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
                 self.bodies.clone_from(&pipeline.saved);
                 dt *= 0.5;

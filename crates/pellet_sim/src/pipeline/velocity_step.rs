@@ -8,18 +8,18 @@
 //! `VelocityParams::max_step`; gravity does not limit it, because the class of a contact is
 //! decided before gravity's increment.
 
-use super::step::{reevaluate, Pipeline, StepReport};
+use super::proximity::wall_closing;
+use super::step::{Pipeline, StepReport};
 use super::world::World;
 use crate::body::Body;
 use crate::container::WallId;
 use crate::dynamics::impulse_solve::{solve_impulses, NormalTarget, VelocityState};
 use crate::dynamics::integrator::advance;
 use crate::dynamics::rows::relative_velocity_from;
-use crate::dynamics::stabilize::project_positions;
 use crate::error::SimError;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
 use crate::geometry::narrow_phase::{collide_pair_cached, collide_wall};
-use crate::math::{axial_distance, Real, Vec3};
+use crate::math::{Real, Vec3};
 use crate::shape::ShapeDesc;
 use serde::{Deserialize, Serialize};
 
@@ -107,7 +107,11 @@ impl World {
                     return;
                 }
                 let full = speeds[k] + spins[k] + g * horizon;
-                let step_speed = if round && gap > delta_c { wall_approach(self, wall, b) + g * horizon } else { full };
+                let step_speed = if round && gap > delta_c {
+                    wall_closing(&self.container, wall, b, true, self.params.velocity.max_step) + g * horizon
+                } else {
+                    full
+                };
                 near.step_speed = near.step_speed.max(step_speed);
                 near.walls.push((k, wall, full));
             });
@@ -277,13 +281,7 @@ impl World {
                     rot_steps += advance(b, &(g * b.mass), &Vec3::zeros(), h, max_rot) as u64;
                 }
             }
-            let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
-            let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
-            let mut bodies = std::mem::take(&mut self.bodies);
-            let clock = std::time::Instant::now();
-            let proj = project_positions(&mut bodies, &contacts, &pipeline.saved, &eval, &bounds, slop, 0.01 * d, &g);
-            report.wall_seconds[3] += clock.elapsed().as_secs_f64();
-            self.bodies = bodies;
+            let proj = self.project(&contacts, &pipeline.saved, &bounds, slop, report);
             if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
                 self.bodies.clone_from(&pipeline.saved);
                 h *= 0.5;
@@ -356,30 +354,6 @@ impl World {
             self.time = if to_end && rewinds == 0 { t_end } else { self.time + h };
             return Ok(());
         }
-    }
-}
-
-/// How fast a sphere's translation closes its gap to a wall it does not touch (the tube wall:
-/// radial, plus what tangential motion adds over a step).
-fn wall_approach(world: &World, wall: WallId, b: &Body) -> Real {
-    let v = b.velocity();
-    match wall {
-        WallId::Floor => (-v.z).max(0.0),
-        WallId::Lid => v.z.max(0.0),
-        WallId::Tube => {
-            let r = axial_distance(b.position.x, b.position.y);
-            let vxy = Vec3::new(v.x, v.y, 0.0);
-            if r <= 1e-12 {
-                return vxy.norm();
-            }
-            let radial = Vec3::new(b.position.x / r, b.position.y / r, 0.0);
-            let vr = vxy.dot(&radial);
-            let vt = (vxy - vr * radial).norm();
-            // Second order in the tangential speed over a step of at most max_step.
-            let inner = (r - vr.abs() * world.params.velocity.max_step).max(1e-12);
-            vr.max(0.0) + (vt * vt * world.params.velocity.max_step / (2.0 * inner)).min(vt)
-        }
-        WallId::Plane(_) => v.norm(),
     }
 }
 
