@@ -156,8 +156,10 @@ log=$work/sbatch/out/slurm
 for id in $TINY $LONG; do
     [ -s "$log/$id.log" ] || fail "no log of $id in $log"
 done
-grep -q 'leg 0: exit 2' "$log/t-unsettled-D30-s1.log" || fail "pack's exit code 2 not passed through"
-grep -q 'leg 0: exit 1' "$log/t-unsettled-D30-s1.log" || fail "settle-check's exit code 1 not passed through"
+# Not settled within --max-time: pack and settle-check both say no (exit 1), and both codes
+# reach make, pack's before settle-check's.
+[ "$(grep -c 'leg 0: exit 1' "$log/t-unsettled-D30-s1.log")" -ge 2 ] ||
+    fail "pack's and settle-check's exit code 1 not passed through (log $log/t-unsettled-D30-s1.log)"
 for id in $LONG; do
     grep -q "pack: error: interrupted at t = [0-9.]* s" "$log/$id.log" || fail "$id: pack was not interrupted (log $log/$id.log)"
     grep -q "leg 1 on " "$log/$id.log" || fail "$id: no second leg after the requeue"
@@ -196,7 +198,7 @@ grep -q 'leg 0 on ' "$work/srun/out/slurm/t-ring-D30-s1.log" || fail "no job ste
 same_beds with-mcap local srun $TINY
 say "   every bed as the local run"
 
-say "4. the default pipeline locally and on Slurm, its pack (no --resume in the recipe) requeued mid-run"
+say "4. the default pipeline locally and on Slurm, its pack requeued mid-run"
 # 80 spheres (some 7 s) instead of 40, to be requeued mid-run.
 bed="--tube-diameter 40 --count 80 --seed 1"
 mkdir -p "$work/default-local" "$work/default-slurm"
@@ -215,7 +217,7 @@ while read -r f; do
     [ "$f" = out/bed.mcap ] && continue
     cmp -s "$work/default-local/$f" "$work/default-slurm/$f" || fail "default pipeline: $f differs on Slurm"
 done <"$work/default.files"
-grep -q 'leg 1 on .*/pack --resume ' "$work/default-slurm/out/slurm/bed.log" ||
+grep -q 'leg 1 on .*/pack .*--resume' "$work/default-slurm/out/slurm/bed.log" ||
     fail "the requeued pack of the default pipeline did not go on with --resume"
 say "   resumed; every file the same but the trajectory"
 
