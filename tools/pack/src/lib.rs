@@ -124,7 +124,7 @@ pub struct Args {
     #[arg(long, value_enum)]
     friction_clamp: Option<ClampArg>,
     /// Time-stepping scheme: `acceleration` (the paper's force-level substeps, at most
-    /// 0.25 ms each) or `velocity` (one impulse solve per step of up to 2.5 ms)
+    /// 0.25 ms each) or `velocity` (one impulse solve per step of up to 1.25 ms)
     /// [default: acceleration].
     #[arg(long, value_enum)]
     stepper: Option<StepperArg>,
