@@ -33,7 +33,7 @@ cd "$work" || exit 2
 "$bin/pack" --pellet s.pellet --tube-diameter 30 --count 20 --scheme batch -o b.mcap >pack.log 2>&1 || fail "pack (pack.log)"
 "$bin/settle-check" b.mcap -o b.packing >settle.log 2>&1 || fail "settle-check (settle.log)"
 say "bed made"
-"$bin/bedexport" b.packing --openfoam case --cell-size 1.25 --inlet 5 --outlet 5 >export.log 2>&1 \
+"$bin/bedexport" b.packing --openfoam case --cell-size 0.5 --inlet 5 --outlet 5 >export.log 2>&1 \
     || { cat export.log >&2; fail "bedexport --openfoam"; }
 expected=$(sed -n 's/^fluid volume: \([^ ]*\) m3.*/\1/p' export.log)
 [ -n "$expected" ] || { cat export.log >&2; fail "bedexport printed no fluid volume"; }

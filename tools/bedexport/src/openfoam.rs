@@ -20,11 +20,11 @@ use crate::{Args, MM};
 /// The contact treatment of an OpenFOAM case.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum CaseTreatment {
-    /// Flatten surfaces closer than --cap-gap [default: the cell size] so that gap remains.
+    /// Flatten surfaces closer than --cap-gap [default: two cells] so that gap remains.
     Caps,
-    /// Join surfaces closer than --bridge-gap [default: the cell size] with cylinders.
+    /// Join surfaces closer than --bridge-gap [default: two cells] with cylinders.
     Bridges,
-    /// Shrink every pellet by --shrink [default: opens touching pellets by one cell].
+    /// Shrink every pellet by --shrink [default: opens touching pellets by two cells].
     Shrink,
     /// The pellets as they are (touching points left to snappyHexMesh).
     None,
@@ -59,10 +59,11 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
     let narrow = |flag: &str, gap: f64| {
         if gap < cell {
             warn(format!(
-                "{flag} {:.4} mm is narrower than a cell ({:.4} mm) and snappyHexMesh closes it; the smallest useful value is {:.4} mm",
+                "{flag} {:.4} mm is narrower than a cell ({:.4} mm) and snappyHexMesh closes it; the smallest useful value is {:.4} mm (the default, two cells, keeps the meshed volume within 2 %: {:.4} mm)",
                 gap / MM,
                 cell / MM,
-                cell / MM
+                cell / MM,
+                2.0 * cell / MM
             ));
         }
     };
@@ -79,19 +80,19 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
     }
     let plan = match args.treatment {
         CaseTreatment::Caps => {
-            let gap = mm("--cap-gap", args.cap_gap)?.unwrap_or(cell);
+            let gap = mm("--cap-gap", args.cap_gap)?.unwrap_or(2.0 * cell);
             narrow("--cap-gap", gap);
             Treatment { caps: Some(gap), ..Treatment::default() }
         }
         CaseTreatment::Bridges => {
-            let gap = mm("--bridge-gap", args.bridge_gap)?.unwrap_or(cell);
+            let gap = mm("--bridge-gap", args.bridge_gap)?.unwrap_or(2.0 * cell);
             let diameter = mm("--bridge-diameter", args.bridge_diameter)?.unwrap_or((dp / 5.0).max(2.0 * cell));
             narrow("--bridge-gap", gap);
             narrow("--bridge-diameter", diameter);
             Treatment { bridges: Some((gap, diameter)), ..Treatment::default() }
         }
         CaseTreatment::Shrink => {
-            let factor = args.shrink.unwrap_or(1.0 - cell / dp);
+            let factor = args.shrink.unwrap_or(1.0 - 2.0 * cell / dp);
             // Touching pellets open by dp (1 − factor).
             narrow("the gap --shrink opens,", dp * (1.0 - factor));
             Treatment { shrink: Some(factor), ..Treatment::default() }
@@ -110,7 +111,7 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
         merged.vertices.extend_from_slice(&m.vertices);
         merged.triangles.extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
     }
-    let location = openfoam::location_in_mesh(&surfaces, radius, z0, z1, cell)
+    let location = openfoam::location_in_mesh(&surfaces, radius, z0, z1, 2.0 * cell)
         .context("found no fluid point in the tube for locationInMesh")?;
     let g = CaseGeometry { radius, z0, z1, cell, location };
     let tube_volume = enclosed_volume(&tube_mesh(radius, z0, z1, args.tube_segments));
