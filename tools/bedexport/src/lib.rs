@@ -151,9 +151,9 @@ pub struct Args {
     /// With --openfoam: empty tube above the bed top (mm) [default: dp].
     #[arg(long, value_name = "MM", requires = "openfoam")]
     pub outlet: Option<f64>,
-    /// With --openfoam: the contact treatment, sized to two cells unless --cap-gap, --bridge-gap or --shrink is given.
-    #[arg(long, value_enum, default_value = "caps")]
-    pub treatment: CaseTreatment,
+    /// With --openfoam: the contact treatment, sized to two cells unless --cap-gap, --bridge-gap or --shrink is given [default: caps].
+    #[arg(long, value_enum, requires = "openfoam")]
+    pub treatment: Option<CaseTreatment>,
     /// Print nothing but errors: no progress on stderr, no summary.
     #[arg(short, long)]
     pub quiet: bool,

@@ -67,18 +67,19 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
             ));
         }
     };
+    let chosen = args.treatment.unwrap_or(CaseTreatment::Caps);
     let given = [
         ("--cap-gap", args.cap_gap.is_some(), CaseTreatment::Caps),
         ("--bridge-gap", args.bridge_gap.is_some(), CaseTreatment::Bridges),
         ("--shrink", args.shrink.is_some(), CaseTreatment::Shrink),
     ];
-    if let Some((flag, _, needs)) = given.iter().find(|(_, set, t)| *set && *t != args.treatment) {
+    if let Some((flag, _, needs)) = given.iter().find(|(_, set, t)| *set && *t != chosen) {
         bail!(
             "{flag} sizes --treatment {}; with --openfoam give --treatment {0} too",
             format!("{needs:?}").to_lowercase()
         );
     }
-    let plan = match args.treatment {
+    let plan = match chosen {
         CaseTreatment::Caps => {
             let gap = mm("--cap-gap", args.cap_gap)?.unwrap_or(2.0 * cell);
             narrow("--cap-gap", gap);
@@ -117,7 +118,7 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
     let tube_volume = enclosed_volume(&tube_mesh(radius, z0, z1, args.tube_segments));
     // Bridges overlap the pellets, so their sum is not the solid then.
     let solid: f64 = surfaces.iter().map(enclosed_volume).sum();
-    let treatment_name = format!("{:?}", args.treatment).to_lowercase();
+    let treatment_name = format!("{chosen:?}").to_lowercase();
     let files: Vec<(&str, Vec<u8>)> = vec![
         ("constant/triSurface/pellets.stl", pellet_export::stl::ascii(&[("pellets".into(), &merged)], 1.0)),
         ("constant/triSurface/tube.stl", openfoam::tube_stl(radius, z0, z1, args.tube_segments)),
