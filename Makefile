@@ -32,7 +32,7 @@ test: lint doc
 test-slurm: build
 	sh tests/slurm/test.sh $(BIN)
 
-# bedexport --openfoam meshed for real: a 20-sphere bed through blockMesh,
+# bedexport --openfoam meshed for real: a 20-sphere and a 20-cylinder bed through blockMesh,
 # surfaceFeatureExtract, snappyHexMesh and checkMesh (tests/openfoam/test.sh;
 # installs Debian's openfoam package when missing, fails when it cannot).
 test-openfoam: build
