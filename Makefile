@@ -5,7 +5,7 @@ OUT ?= out
 # Where cargo puts the release build (CARGO_TARGET_DIR if set).
 BIN := $(or $(CARGO_TARGET_DIR),target)/release
 
-.PHONY: all build pipeline test test-slurm lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
+.PHONY: all build pipeline test test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
 
 all: pipeline
 
@@ -31,6 +31,12 @@ test: lint doc
 # about 2 min). Fails when Slurm cannot start.
 test-slurm: build
 	sh tests/slurm/test.sh $(BIN)
+
+# bedexport --openfoam meshed for real: a 20-sphere and a 20-cylinder bed through blockMesh,
+# surfaceFeatureExtract, snappyHexMesh and checkMesh (tests/openfoam/test.sh;
+# installs Debian's openfoam package when missing, fails when it cannot).
+test-openfoam: build
+	sh tests/openfoam/test.sh $(BIN)
 
 # Speed figures (not tests): the engine pouring spheres, cylinders and rings
 # with pack's contact model (PELLET_BENCH_CASES / _SIM_SECONDS / _WALL_SECONDS /

@@ -9,6 +9,7 @@
 //! (1000 for millimetres, 1 for metres) applied to every coordinate.
 //!
 //! - [`scene`]: the pellets' world meshes, the tube surface, the axial window.
+//! - [`openfoam`]: an OpenFOAM case (surfaces and meshing dictionaries) for the fluid.
 //! - [`clip`]: closed meshes cut at horizontal planes and capped (slabs of a bed).
 //! - [`contacts`]: pellet–pellet and pellet–wall gaps below a threshold.
 //! - [`treatment`]: global shrink, bridges and caps, with the porosity change of each.
@@ -28,6 +29,7 @@
 
 pub mod clip;
 pub mod contacts;
+pub mod openfoam;
 pub mod poses;
 pub mod scene;
 pub mod stl;

@@ -13,13 +13,17 @@ use pellet_export::treatment::{self, Treatment};
 use pellet_export::{clip, poses, scene, stl, voxels, vtk};
 use pellet_io::OutputFile;
 
+mod openfoam;
 mod summary;
+
+pub use openfoam::CaseTreatment;
 
 const MM: f64 = 1e-3;
 
 const EXAMPLES: &str = "\
 Examples:
   bedexport bed.packing --stl bed.stl --tube-stl tube.stl
+  bedexport bed.packing --openfoam case --cell-size 1 --inlet 10 --outlet 10 --treatment caps
   bedexport bed.packing --stl bed.stl --shrink 0.99 --units m
   bedexport bed.packing --stl bed.stl --ascii --solids per-pellet --bridge-gap 0.1 --bridge-diameter 2
   bedexport bed.packing --vtk bed.vtp --vtk-centres centres.vtp --csv poses.csv
@@ -135,6 +139,21 @@ pub struct Args {
     /// Gap (mm) below which --shrink counts a contact as opened [default: dp/100].
     #[arg(long, value_name = "MM")]
     pub contact_gap: Option<f64>,
+    /// Write an OpenFOAM case (surfaces in m and the meshing dictionaries) to this new directory.
+    #[arg(long, value_name = "DIR")]
+    pub openfoam: Option<String>,
+    /// With --openfoam: cell size at the pellets (mm), twice that elsewhere [default: dp/10].
+    #[arg(long, value_name = "MM", requires = "openfoam")]
+    pub cell_size: Option<f64>,
+    /// With --openfoam: empty tube below the floor (mm) [default: dp].
+    #[arg(long, value_name = "MM", requires = "openfoam")]
+    pub inlet: Option<f64>,
+    /// With --openfoam: empty tube above the bed top (mm) [default: dp].
+    #[arg(long, value_name = "MM", requires = "openfoam")]
+    pub outlet: Option<f64>,
+    /// With --openfoam: the contact treatment, sized to two cells unless --cap-gap, --bridge-gap or --shrink is given [default: caps].
+    #[arg(long, value_enum, requires = "openfoam")]
+    pub treatment: Option<CaseTreatment>,
     /// Print nothing but errors: no progress on stderr, no summary.
     #[arg(short, long)]
     pub quiet: bool,
@@ -202,9 +221,21 @@ pub struct Exported {
 /// Runs `bedexport`.
 pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let paths = args.output_paths();
+    if let Some(dir) = &args.openfoam {
+        if !paths.is_empty() || args.window.is_some() {
+            bail!("--openfoam writes a whole case; give it without the other outputs and --window");
+        }
+        pellet_cli::refuse_overwriting_inputs([&args.packing], [("--openfoam".to_string(), dir.clone())])?;
+        let bed = pellet_io::decode_packing(&pellet_io::read_input(&args.packing)?, &args.packing)?.bed;
+        if bed.pellets.is_empty() {
+            bail!("{}: the bed holds no pellets", args.packing);
+        }
+        let (dp, _) = reference_diameters(&bed).with_context(|| args.packing.clone())?;
+        return openfoam::run(&args, dir, &bed, dp);
+    }
     if paths.is_empty() {
         bail!(
-            "nothing to export: give at least one of --stl, --tube-stl, --vtk, --vtk-centres, --voxels, --vti, --csv"
+            "nothing to export: give --openfoam or at least one of --stl, --tube-stl, --vtk, --vtk-centres, --voxels, --vti, --csv"
         );
     }
     if paths.iter().filter(|p| p.as_str() == "-").count() > 1 {

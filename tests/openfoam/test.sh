@@ -1,0 +1,64 @@
+#!/bin/sh
+# test.sh BIN (make test-openfoam): a 20-sphere and a 20-cylinder bed (10 mm
+# pellets, 30 mm tube) made with the binaries in BIN, exported with
+# `bedexport --openfoam` (0.5 mm cells, default caps), meshed with OpenFOAM
+# (Debian's openfoam package, installed when missing): blockMesh,
+# surfaceFeatureExtract, snappyHexMesh and checkMesh must give "Mesh OK",
+# one region, the patches inlet, outlet, wall and pellets, and a fluid
+# volume within 2 % of the tube minus the pellets. Fails (exit 1) when
+# OpenFOAM cannot be installed: it never passes by skipping. KEEP=1 keeps the case.
+set -u
+[ $# -eq 1 ] || { echo "test-openfoam: error: usage: test.sh BIN" >&2; exit 2; }
+bin=$(cd "$1" 2>/dev/null && pwd) || { echo "test-openfoam: error: no directory $1 (build first)" >&2; exit 2; }
+for t in mkpellet pack settle-check bedexport; do
+    [ -x "$bin/$t" ] || { echo "test-openfoam: error: $bin/$t missing (build first)" >&2; exit 2; }
+done
+start=$(date +%s)
+say() { echo "test-openfoam: [$(($(date +%s) - start)) s] $*"; }
+fail() { echo "test-openfoam: FAILED: $*" >&2; exit 1; }
+
+# Debian's OpenFOAM v1912 finds its etc files through these.
+export FOAM_INST_DIR=/usr/share/openfoam WM_PROJECT_DIR=/usr/share/openfoam
+if ! command -v snappyHexMesh >/dev/null; then
+    say "installing Debian's openfoam package"
+    sudo=; [ "$(id -u)" -eq 0 ] || sudo=sudo
+    { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends openfoam; } >/dev/null 2>&1 \
+        || fail "OpenFOAM is not installed and 'apt-get install openfoam' failed; install Debian's openfoam package (v1912) and rerun"
+    command -v snappyHexMesh >/dev/null || fail "the openfoam package installed no snappyHexMesh on PATH"
+fi
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/packbed-openfoam.XXXXXX") || exit 2
+[ "${KEEP:-0}" = 1 ] && say "keeping $work" || trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 2
+mesh_bed() { # name, mkpellet arguments…
+    name=$1; shift
+    mkdir "$name" && cd "$name" || exit 2
+    "$bin/mkpellet" "$@" -o p.pellet >/dev/null || fail "$name: mkpellet"
+    "$bin/pack" --pellet p.pellet --tube-diameter 30 --count 20 --scheme batch -o b.mcap >pack.log 2>&1 || fail "$name: pack (pack.log)"
+    "$bin/settle-check" b.mcap -o b.packing >settle.log 2>&1 || fail "$name: settle-check (settle.log)"
+    say "$name: bed made"
+    "$bin/bedexport" b.packing --openfoam case --cell-size 0.5 --inlet 5 --outlet 5 >export.log 2>&1 \
+        || { cat export.log >&2; fail "$name: bedexport --openfoam"; }
+    expected=$(sed -n 's/^fluid volume: \([^ ]*\) m3.*/\1/p' export.log)
+    [ -n "$expected" ] || { cat export.log >&2; fail "$name: bedexport printed no fluid volume"; }
+    cd case || exit 2
+    for step in blockMesh surfaceFeatureExtract "snappyHexMesh -overwrite" checkMesh; do
+        log=log.${step%% *}
+        $step >"$log" 2>&1 || { tail -n 30 "$log" >&2; fail "$name: $step failed (log above)"; }
+        say "$name: $step done"
+    done
+    grep -q "Mesh OK" log.checkMesh || { tail -n 40 log.checkMesh >&2; fail "$name: checkMesh did not say Mesh OK"; }
+    grep -q "Number of regions: 1 (OK)" log.checkMesh || fail "$name: the fluid is not one connected region"
+    for patch in inlet outlet wall pellets; do
+        grep -Eq "^ *$patch\$" constant/polyMesh/boundary || fail "$name: patch $patch missing (constant/polyMesh/boundary)"
+    done
+    meshed=$(sed -n 's/.*Total volume = \([^ ]*\)\..*/\1/p' log.checkMesh | head -n 1)
+    [ -n "$meshed" ] || fail "$name: checkMesh printed no total volume"
+    awk -v m="$meshed" -v e="$expected" 'BEGIN { d = (m - e) / e; if (d < 0) d = -d; exit !(d <= 0.02) }' \
+        || fail "$name: meshed fluid volume $meshed m3 is not within 2 % of $expected m3"
+    cells=$(sed -n 's/^ *cells: *\([0-9]*\)/\1/p' log.checkMesh | head -n 1)
+    say "$name: passed: Mesh OK, $cells cells, fluid volume $meshed m3 (expected $expected m3)"
+    cd "$work" || exit 2
+}
+mesh_bed spheres sphere --diameter 10
+mesh_bed cylinders cylinder --diameter 10 --height 10

@@ -1,0 +1,74 @@
+//! `bedexport --openfoam`: the case directory without OpenFOAM (make
+//! test-openfoam meshes it for real).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use pellet_analysis::synthetic::random_placement;
+use pellet_geom::{Pellet, Resolution, ShapeSpec};
+use pellet_io::{PackingFile, Provenance};
+
+const MM: f64 = 1e-3;
+
+fn bedexport(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bedexport")).args(args).current_dir(dir).output().expect("run bedexport")
+}
+
+#[test]
+fn the_case_holds_every_file_with_named_tube_regions_and_refuses_bad_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution::default()).unwrap();
+    let bed = random_placement(&sphere, 30.0 * MM, 40.0 * MM, 10, 1);
+    let file = PackingFile {
+        length_unit: "m".into(),
+        provenance: Provenance { tool: "test".into(), version: "0".into(), args: vec![] },
+        time_s: 0.0,
+        verdict: None,
+        bed,
+    };
+    std::fs::write(dir.path().join("b.packing"), pellet_io::encode_packing(&file).unwrap()).unwrap();
+    let out = bedexport(dir.path(), &["b.packing", "--openfoam", "case", "--inlet", "5", "--cap-gap", "0.1"]);
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    // A one-cell-narrow gap is written but warned about, with the smallest useful value.
+    assert!(
+        stderr.contains("narrower than a cell (1.0000 mm)") && stderr.contains("smallest useful value is 1.0000 mm"),
+        "{stderr}"
+    );
+    assert!(stdout.contains("inlet 5.000 mm, outlet 10.000 mm") && stdout.contains("fluid volume:"), "{stdout}");
+    let case = dir.path().join("case");
+    for f in [
+        "README",
+        "constant/triSurface/pellets.stl",
+        "constant/triSurface/tube.stl",
+        "system/controlDict",
+        "system/blockMeshDict",
+        "system/surfaceFeatureExtractDict",
+        "system/snappyHexMeshDict",
+        "system/meshQualityDict",
+    ] {
+        assert!(case.join(f).is_file(), "{f} missing");
+    }
+    let tube = std::fs::read_to_string(case.join("constant/triSurface/tube.stl")).unwrap();
+    let solids: Vec<&str> = tube.lines().filter_map(|l| l.strip_prefix("solid ")).collect();
+    assert_eq!(solids, ["wall", "inlet", "outlet"]);
+    // Metres: the inlet starts 5 mm below the floor.
+    assert!(tube.contains("-5.00000000e-3"), "no vertex at z = -0.005 m");
+    let snappy = std::fs::read_to_string(case.join("system/snappyHexMeshDict")).unwrap();
+    assert!(snappy.contains("locationInMesh (") && snappy.contains("wall   { name wall; }"));
+    // No staging directory is left beside the case.
+    let names: Vec<String> =
+        std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+    assert!(names.iter().all(|n| !n.contains(".part")), "{names:?}");
+    for (args, needle) in [
+        (vec!["b.packing", "--openfoam", "case"], "already exists"),
+        (vec!["b.packing", "--openfoam", "c2", "--stl", "x.stl"], "without the other outputs"),
+        (vec!["b.packing", "--openfoam", "c2", "--shrink", "0.99"], "--treatment shrink"),
+    ] {
+        let out = bedexport(dir.path(), &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(needle) && err.trim_end().lines().count() == 1, "{err}");
+    }
+    assert!(!dir.path().join("c2").exists());
+}
