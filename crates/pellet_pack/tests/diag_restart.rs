@@ -6,7 +6,7 @@
 //! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo test --release -p pellet_pack --test diag_restart -- --ignored --nocapture`
 //!
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
-//! run; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g) change one
+//! run; `VELOCITY` runs the velocity-level stepper; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g) change one
 //! setting, and `CONTACTS` lists the fastest pellet's contacts after every step. The tube and
 //! pellet are the trajectory's; materials and engine parameters are pack's defaults.
 
@@ -54,6 +54,9 @@ fn restart_from_a_frame() {
     }
     if let Ok(v) = std::env::var("TOL") {
         params.solver_tolerance_factor = v.parse().unwrap();
+    }
+    if std::env::var("VELOCITY").is_ok() {
+        params.stepper = pellet_sim::Stepper::Velocity;
     }
     if std::env::var("PGS_ONLY").is_ok() {
         params.iterative_solver = pellet_sim::IterativeSolver::Pgs;
@@ -131,7 +134,7 @@ fn restart_from_a_frame() {
             }
         }
         println!(
-            "t {:.3} KE {:.2e} J vmax {:.2e} m/s moved {:.2e} m | substeps {} it/substep {:.0} unconverged {} largest {} residual {:.2e} wall {:.1} s",
+            "t {:.3} KE {:.2e} J vmax {:.2e} m/s moved {:.2e} m | substeps {} it/substep {:.0} unconverged {} largest {} residual {:.2e} loaded {} warm {} pen {:.2e} wall {:.1} s",
             world.time(),
             world.kinetic_energy(),
             vmax,
@@ -141,6 +144,9 @@ fn restart_from_a_frame() {
             r.unconverged_islands,
             r.largest_island,
             r.solver_residual,
+            r.loaded_contacts,
+            r.loaded_warm,
+            r.max_penetration,
             clock.elapsed().as_secs_f64()
         );
     }

@@ -82,7 +82,7 @@ pub struct VelocityParams {
 
 impl Default for VelocityParams {
     fn default() -> Self {
-        Self { max_step: 1.25e-3, travel: 0.025, tolerance_factor: 2e-5, relative_tolerance: 1e-2, max_sweeps: 1000 }
+        Self { max_step: 1.25e-3, travel: 0.025, tolerance_factor: 2e-7, relative_tolerance: 1e-2, max_sweeps: 1000 }
     }
 }
 

@@ -315,12 +315,14 @@ fn contact(a: &Pellet<'_>, b: &Pellet<'_>, h: &Hit, normal: Vec3, owner: NormalO
 
 /// Sampled contacts between two pellets, both ways, patched and reduced. With `cache`, the
 /// samples that can touch are kept across calls while the pair's relative pose allows it
-/// (`sample_cache`): the same contacts, bit for bit.
+/// (`sample_cache`): the same contacts, bit for bit. `kept` (sorted features) are the points
+/// the reduction prefers (`patch::reduce`).
 pub fn sampled_pair(
     a: Pellet<'_>,
     b: Pellet<'_>,
     max_gap: Real,
     cache: Option<&mut PairSamples>,
+    kept: &[u32],
     out: &mut Vec<Contact>,
 ) {
     let ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
@@ -346,16 +348,16 @@ pub fn sampled_pair(
             }
         }
     }
-    contacts_of(a, b, hits, out);
+    contacts_of(a, b, hits, kept, out);
 }
 
 /// The contacts of a pair's hits: patched by normal and each patch reduced.
-fn contacts_of(a: Pellet<'_>, b: Pellet<'_>, mut hits: Vec<Hit>, out: &mut Vec<Contact>) {
+fn contacts_of(a: Pellet<'_>, b: Pellet<'_>, mut hits: Vec<Hit>, kept: &[u32], out: &mut Vec<Contact>) {
     for patch in patches(&mut hits) {
         let first = &hits[patch[0]];
         let (normal, owner) = (first.normal, first.owner);
         let band = NEAR_BAND * a.geom.bounding_radius.min(b.geom.bounding_radius);
-        for k in reduce(&hits, &patch, &normal, band) {
+        for k in reduce(&hits, &patch, &normal, band, kept) {
             out.push(contact(&a, &b, &hits[k], normal, owner));
         }
     }

@@ -19,6 +19,11 @@ use std::f64::consts::TAU;
 
 /// Coarse angles scanned before the golden-section refinement of the tube-wall maximum.
 const TUBE_SCAN: usize = 16;
+/// Sine of the tilt below which a rim's points on a plane stay fixed in the body
+/// (`square_direction`).
+const FLAT_TILT: Real = 1e-2;
+/// Angles per turn to which the lowest rim point of a nearly flat rim is rounded.
+const FLAT_ANGLES: Real = 128.0;
 
 /// A plane wall as (inward normal, offset): gap(p) = n·p − offset.
 fn plane(container: &Container, wall: WallId) -> Option<(Vec3, Real)> {
@@ -69,6 +74,25 @@ fn rim_of_feature(container: &Container, wall: WallId, feature: u32) -> usize {
     }
 }
 
+/// The direction (world) from a rim's centre to the first of its four points on a plane, given
+/// `d`, the plane's inward normal reversed and projected onto the rim's plane (its length is
+/// the sine of the tilt). Tilted by more than `FLAT_TILT`, it is the lowest point's. Nearer to
+/// flat, the lowest point's angle on the rim is rounded to `FLAT_ANGLES` steps, so that a cap
+/// lying flat keeps its four points, fixed in the body, while round-off rocks it: points that
+/// followed every 1e-7 rad of tilt swung round the rim by 0.01 rad a step, and their warm
+/// friction then pulled in every direction. The rounding leaves the lowest point at most
+/// sin(tilt) r (1 − cos(π/FLAT_ANGLES)) ≈ 3e-6 r too high.
+fn square_direction(rot: &Mat3, d: &Vec3) -> Vec3 {
+    let s = d.norm();
+    if s > FLAT_TILT {
+        return d / s;
+    }
+    let body = rot.transpose() * d;
+    let step = TAU / FLAT_ANGLES;
+    let t = if s > 0.0 { (body.y.atan2(body.x) / step).round() * step } else { 0.0 };
+    rot * Vec3::new(t.cos(), t.sin(), 0.0)
+}
+
 /// Contacts of outer rim `k` of `a` (rotation matrix `rot`) with `wall`, gap ≤ `max_gap`.
 fn rim_wall(
     container: &Container,
@@ -85,7 +109,7 @@ fn rim_wall(
     let centre = x + axis * rim.z;
     if let Some((n, offset)) = plane(container, wall) {
         let d = -(n - axis * n.dot(&axis));
-        let e = if d.norm() > 1e-12 { d.normalize() } else { rot.column(0).into_owned() };
+        let e = square_direction(rot, &d);
         let f = axis.cross(&e);
         for (j, dir) in [e, f, -e, -f].iter().enumerate() {
             let p = centre + dir * rim.radius;
@@ -152,7 +176,7 @@ fn samples_wall(container: &Container, wall: WallId, a: &Pellet<'_>, max_gap: Re
     let mut order: Vec<usize> = (0..hits.len()).collect();
     order.sort_by(|&i, &j| hits[i].gap.total_cmp(&hits[j].gap).then(i.cmp(&j)));
     let n = hits[order[0]].normal;
-    for k in reduce(&hits, &order, &n, NEAR_BAND * a.geom.bounding_radius) {
+    for k in reduce(&hits, &order, &n, NEAR_BAND * a.geom.bounding_radius, &[]) {
         let h = &hits[k];
         out.push(make(a, wall, h.pa, h.normal, h.gap, kins[k], h.feature));
     }

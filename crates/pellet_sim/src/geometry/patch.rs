@@ -26,6 +26,13 @@ pub(crate) const NEAR_BAND: Real = 2e-3;
 /// A touching point is preferred in the reduction if it adds at least this fraction of the
 /// patch's extent (distance, or triangle height).
 const SPREAD: Real = 0.05;
+/// A point the pair kept in the last step stays in the reduction while it scores at least this
+/// fraction of the best point's distance or area...
+const KEEP_SCORE: Real = 0.9;
+/// ...and, as the patch's first point, while it lies within this many bounding radii of the
+/// patch's smallest gap (1e-5 R_b ≈ 0.07 µm for the paper's pellets: the deepest point is never
+/// left out by more than that).
+const KEEP_DEPTH: Real = 1e-5;
 
 /// One candidate contact point before patching.
 #[derive(Debug, Clone, Copy)]
@@ -118,21 +125,39 @@ pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
 /// refined rim point 3.5e-7 m away that was the patch's second real contact; the pellet then
 /// rotated about the one kept contact and that rim point sank 8.3e-5 m within one substep
 /// (t23, NOTES.md problem 2). A flat patch has all its points in the band: unchanged.
-pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real) -> Reduced {
+///
+/// `kept` (sorted features) are the points the pair had in the last step: each pick takes one
+/// of them when it does nearly as well as the best (`KEEP_SCORE`, `KEEP_DEPTH`).
+pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real, kept: &[u32]) -> Reduced {
     if patch.len() <= 4 {
         return Reduced::of(patch);
     }
     let p = |k: usize| hits[patch[k]].pa;
+    let gap = |k: usize| hits[patch[k]].gap;
     let g_min = patch.iter().map(|&k| hits[k].gap).fold(Real::INFINITY, Real::min);
     let near = |k: usize| hits[patch[k]].gap <= g_min + band;
+    let was_kept = |k: usize| kept.binary_search(&hits[patch[k]].feature).is_ok();
     let best = |f: &dyn Fn(usize) -> Real, pick: &dyn Fn(usize) -> bool| {
-        (0..patch.len()).filter(|&k| pick(k)).fold((0, Real::NEG_INFINITY), |best, k| {
+        let top = (0..patch.len()).filter(|&k| pick(k)).fold((0, Real::NEG_INFINITY), |best, k| {
             if f(k) > best.1 {
                 (k, f(k))
             } else {
                 best
             }
-        })
+        });
+        // A point kept from the last step that does nearly as well stays (its key and impulse
+        // with it): a bed at rest rocks by round-off, and which of two equal points scores
+        // higher then flips from step to step.
+        if kept.is_empty() || top.1 <= 0.0 {
+            return top;
+        }
+        (0..patch.len())
+            .filter(|&k| pick(k) && was_kept(k) && f(k) >= KEEP_SCORE * top.1)
+            .fold(None, |b: Option<(usize, Real)>, k| match b {
+                Some(b) if b.1 >= f(k) => Some(b),
+                _ => Some((k, f(k))),
+            })
+            .unwrap_or(top)
     };
     // The best near point if it adds at least `floor`, else the best of all points.
     let argmax = |f: &dyn Fn(usize) -> Real, floor: Real| {
@@ -143,7 +168,12 @@ pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real) -> Red
             best(f, &|_| true)
         }
     };
-    let i0 = 0;
+    // The deepest point, or a kept point within `KEEP_DEPTH` of its depth.
+    let depth_margin = KEEP_DEPTH * band / NEAR_BAND;
+    let i0 = (0..patch.len())
+        .filter(|&k| was_kept(k) && gap(k) <= g_min + depth_margin)
+        .min_by(|&i, &j| gap(i).total_cmp(&gap(j)).then(i.cmp(&j)))
+        .unwrap_or(0);
     let extent = best(&|k| (p(k) - p(i0)).norm(), &|_| true).1;
     let (i1, d1) = argmax(&|k| (p(k) - p(i0)).norm_squared(), (SPREAD * extent).powi(2));
     if d1 <= 0.0 {

@@ -165,6 +165,15 @@ pub struct StepReport {
     pub solver_residual_tight: Real,
     /// Resting islands whose solver did not converge.
     pub unconverged_islands: u32,
+    /// Velocity-level stepper: contacts that carried load (a normal impulse), summed over
+    /// steps.
+    pub loaded_contacts: u64,
+    /// Velocity-level stepper: of `loaded_contacts`, those warm started from a loaded contact
+    /// of the same key in the step before.
+    pub loaded_warm: u64,
+    /// Velocity-level stepper: bodies and walls in contact (pairs with at least one contact
+    /// point), summed over steps: `contacts / contact_pairs` is the points per pair.
+    pub contact_pairs: u64,
     /// Largest island, rows.
     pub largest_island: usize,
     /// Largest penetration before projection, m.

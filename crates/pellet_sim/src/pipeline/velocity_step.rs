@@ -18,7 +18,7 @@ use crate::dynamics::integrator::advance;
 use crate::dynamics::rows::relative_velocity_from;
 use crate::error::SimError;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
-use crate::geometry::narrow_phase::{collide_pair_cached, collide_wall};
+use crate::geometry::narrow_phase::{collide_pair_kept, collide_wall};
 use crate::math::{Real, Vec3};
 use crate::shape::ShapeDesc;
 use serde::{Deserialize, Serialize};
@@ -162,11 +162,13 @@ impl World {
         let g = self.params.gravity.norm();
         let mut out = Vec::with_capacity(near.pairs.len() + near.walls.len());
         pipeline.samples.next_round();
+        let mut kept = Vec::new();
         for &(i, j, s) in &near.pairs {
             let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
             let pa = self.pellet(&self.bodies, i, ti);
             let pb = self.pellet(&self.bodies, j, tj);
-            collide_pair_cached(pa, pb, delta_c + s * h, &mut pipeline.samples, &mut out)?;
+            kept_features(&pipeline.impulses, i, j, &mut kept);
+            collide_pair_kept(pa, pb, delta_c + s * h, &mut pipeline.samples, &kept, &mut out)?;
         }
         for &(k, wall, s) in &near.walls {
             let t = self.bodies[k].type_id.0 as usize;
@@ -309,6 +311,13 @@ impl World {
             report.dt_min = report.dt_min.min(h);
             report.dt_max = report.dt_max.max(h);
             report.contacts += contacts.len() as u64;
+            report.contact_pairs += contact_pairs(&contacts);
+            for (k, m) in memory.iter().enumerate() {
+                if sol.normal[k] > 0.0 {
+                    report.loaded_contacts += 1;
+                    report.loaded_warm += u64::from(m.normal > 0.0);
+                }
+            }
             report.colliding += colliding;
             report.resting += resting;
             report.impulses += impacts;
@@ -363,6 +372,21 @@ struct Memory {
     normal: Real,
     friction: Vec3,
     approach: Real,
+}
+
+/// The features of pair (i, j)'s contacts of the last step (`memory` sorted by key), sorted.
+fn kept_features(memory: &[WarmImpulse], i: usize, j: usize, out: &mut Vec<u32>) {
+    out.clear();
+    let of = |feature| ContactKey { a: i as u32, b: Counterpart::Body(j), feature };
+    let from = memory.partition_point(|w| w.key < of(0));
+    out.extend(memory[from..].iter().take_while(|w| w.key <= of(u32::MAX)).map(|w| w.key.feature));
+}
+
+/// How many pairs (a body and a body or a wall) the contacts are between; contacts of a pair
+/// are adjacent (the narrow phase emits them pair by pair).
+fn contact_pairs(contacts: &[Contact]) -> u64 {
+    contacts.windows(2).filter(|w| (w[0].a, w[0].b) != (w[1].a, w[1].b)).count() as u64
+        + u64::from(!contacts.is_empty())
 }
 
 /// Each contact's memory from the last step (`memory` sorted by key), by key. Matching a

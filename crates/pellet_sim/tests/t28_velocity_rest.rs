@@ -1,0 +1,119 @@
+//! Pellets at rest under the velocity-level stepper: a cylinder on its cap and on its side, a
+//! ring on its face and on its side. Over 1 s simulated: every
+//! pellet at rest to 1e-8 m/s, every loaded contact keeps its key from one step to the next
+//! (so its impulse is warm started), and the net friction on a body at a flat rest is zero to
+//! the solve's tolerance.
+
+mod common;
+use common::*;
+use pellet_sim::{BodyType, Container, EngineParams, Quat, Stepper, Vec3};
+use std::f64::consts::FRAC_PI_2;
+
+fn velocity() -> EngineParams {
+    EngineParams { stepper: Stepper::Velocity, ..EngineParams::default() }
+}
+
+struct Rest {
+    vmax: f64,
+    lost_keys: usize,
+    loaded: usize,
+    friction: f64,
+}
+
+/// Runs `w` for `seconds` in big steps of 1/40 s; returns the largest speed, how many loaded
+/// contacts had no loaded contact of the same key in the step before, and the largest net
+/// friction force on a body over its weight.
+fn hold(w: &mut pellet_sim::World, seconds: f64) -> Rest {
+    let mut p = pellet_sim::Pipeline::new();
+    let mut out = Rest { vmax: 0.0, lost_keys: 0, loaded: 0, friction: 0.0 };
+    let weight: Vec<f64> = w.bodies().iter().map(|b| b.mass * 9.81).collect();
+    for step in 0..(seconds * 40.0).round() as usize {
+        let r = w.step(1.0 / 40.0, &mut p).unwrap();
+        if std::env::var("T28_TRACE").is_ok() {
+            let v = w.bodies().iter().map(|b| b.velocity().norm()).fold(0.0, f64::max);
+            println!(
+                "t {:.3} steps {} sweeps {} residual {:.2e} unconverged {} loaded {} warm {} |v| {v:.2e} pen {:.2e}",
+                w.time(),
+                r.substeps,
+                r.solver_iterations,
+                r.solver_residual,
+                r.unconverged_islands,
+                r.loaded_contacts,
+                r.loaded_warm,
+                r.max_penetration
+            );
+        }
+        // The first step starts cold.
+        if step > 0 {
+            out.lost_keys += (r.loaded_contacts - r.loaded_warm) as usize;
+        }
+        out.loaded = p.last_contacts().iter().filter(|r| r.normal_force > 0.0).count();
+        for b in w.bodies() {
+            out.vmax = out.vmax.max(b.velocity().norm());
+        }
+        let mut f = vec![Vec3::zeros(); w.bodies().len()];
+        for r in p.last_contacts() {
+            f[r.contact.a] += r.friction_force;
+            if let Some(j) = r.contact.b_body() {
+                f[j] -= r.friction_force;
+            }
+        }
+        for (k, f) in f.iter().enumerate() {
+            out.friction = out.friction.max(f.norm() / weight[k]);
+        }
+    }
+    out
+}
+
+fn one(ty: BodyType, x: Vec3, q: Quat) -> Rest {
+    let (mut w, t) = shape_world(Container::tube(0.05).unwrap(), ty, material(0.5, 0.3), wall(0.5, 0.3), velocity());
+    add_q(&mut w, t, x, q, Vec3::zeros(), Vec3::zeros());
+    hold(&mut w, 1.0)
+}
+
+fn report(name: &str, r: &Rest) {
+    println!(
+        "{name}: |v| max {:.2e} m/s, loaded contacts {}, keys lost {}, net friction / weight {:.2e}",
+        r.vmax, r.loaded, r.lost_keys, r.friction
+    );
+}
+
+#[test]
+fn cylinder_on_its_cap() {
+    let r = one(BodyType::solid_cylinder(0.005, 0.005).unwrap(), Vec3::new(0.0, 0.0, 0.005), Quat::identity());
+    report("cylinder on its cap", &r);
+    assert!(r.vmax <= 1e-8);
+    assert_eq!(r.lost_keys, 0);
+    assert!(r.friction <= 1e-6);
+}
+
+#[test]
+fn cylinder_on_its_side() {
+    let q = Quat::from_axis_angle(&Vec3::y_axis(), FRAC_PI_2);
+    let r = one(BodyType::solid_cylinder(0.005, 0.005).unwrap(), Vec3::new(0.0, 0.0, 0.005), q);
+    report("cylinder on its side", &r);
+    assert!(r.vmax <= 1e-8);
+    assert_eq!(r.lost_keys, 0);
+    assert!(r.friction <= 1e-6);
+}
+
+#[test]
+fn ring_on_its_face() {
+    let ring = BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap();
+    let r = one(ring, Vec3::new(0.001, -0.002, 0.005), Quat::identity());
+    report("ring on its face", &r);
+    assert!(r.vmax <= 1e-8);
+    assert_eq!(r.lost_keys, 0);
+    assert!(r.friction <= 1e-6);
+}
+
+#[test]
+fn ring_on_its_side() {
+    let ring = BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap();
+    let q = Quat::from_axis_angle(&Vec3::x_axis(), FRAC_PI_2);
+    let r = one(ring, Vec3::new(0.001, -0.002, 0.005), q);
+    report("ring on its side", &r);
+    assert!(r.vmax <= 1e-8);
+    assert_eq!(r.lost_keys, 0);
+    assert!(r.friction <= 1e-6);
+}
