@@ -5,9 +5,12 @@
 # BIN: the release binaries (default target/release). CASES (default "sph690 cyl40"):
 #   sph690  690 spheres of 10 mm, D = 79.9 mm, batch (yardstick: liggghts-690)
 #   cyl40   40 cylinders 10 x 10 mm, D = 40 mm, batch, seeds 1-3
+#   ring40  40 Raschig rings 10/6 x 10 mm, D = 40 mm, batch, seeds 1-3
 #   cyl620  620 cylinders 10 x 10 mm, D = 91.58 mm, batch (yardstick: rapier-620; minutes)
-# Prints per run: case, stepper, seed, CPU s (user + system), settle time, porosity, and the
-# CPU ratio to the yardstick when there is one.
+# Prints per run: case, stepper, seed, CPU s (user + system), settle time, porosity, the
+# CPU ratio to the yardstick when there is one, and for the velocity-level stepper the contact
+# solve over the last 0.1 s of the run: contact points per pair, the share of loaded contacts
+# warm started and the share of steps whose solve converged.
 set -euo pipefail
 BIN=${1:-target/release}
 CASES=${2:-sph690 cyl40}
@@ -17,6 +20,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 "$BIN/mkpellet" sphere --diameter 10 -o "$work/s.pellet" >/dev/null
 "$BIN/mkpellet" cylinder --diameter 10 --height 10 -o "$work/c.pellet" >/dev/null
+"$BIN/mkpellet" ring --outer-diameter 10 --inner-diameter 6 --height 10 -o "$work/r.pellet" >/dev/null
 
 yardstick() {  # peer case → its CPU seconds, or empty
   [ -f "$peers" ] || return 0
@@ -36,10 +40,15 @@ one() {  # label pellet tube count seed stepper window yard
     python3 -c 'import json,sys; print("%.4f" % json.load(sys.stdin)["bulk_porosity"])' || echo -)
   local ratio=-
   [ -n "$yard" ] && ratio=$(awk -v a="$cpu" -v b="$yard" 'BEGIN{printf "%.2f", a / b}')
-  printf "%-7s %-12s %4s %8s %9s %8s %7s\n" "$label" "$stepper" "$seed" "$cpu" "${settled:-unsettled}" "$porosity" "$ratio"
+  local solve
+  solve=$(sed -n 's/.*: \([0-9.]*\) contact points a pair, \([0-9.]*\) % of loaded.*, \([0-9.]*\) % of.*/\1 \2 \3/p' "$work/pack.log")
+  [ -n "$solve" ] || solve="- - -"
+  # shellcheck disable=SC2086
+  printf "%-7s %-12s %4s %8s %9s %8s %7s %9s %7s %7s\n" "$label" "$stepper" "$seed" "$cpu" "${settled:-unsettled}" \
+    "$porosity" "$ratio" $solve
 }
 
-printf "%-7s %-12s %4s %8s %9s %8s %7s\n" case stepper seed cpu_s settle_s porosity ratio
+printf "%-7s %-12s %4s %8s %9s %8s %7s %9s %7s %7s\n" case stepper seed cpu_s settle_s porosity ratio pts/pair warm_% conv_%
 for c in $CASES; do
   case $c in
     sph690)
@@ -47,9 +56,11 @@ for c in $CASES; do
       for s in acceleration velocity; do one sph690 s.pellet 79.9 690 1 $s 0,100 "$y"; done ;;
     cyl40)
       for seed in 1 2 3; do for s in acceleration velocity; do one cyl40 c.pellet 40 40 $seed $s 0,40 ""; done; done ;;
+    ring40)
+      for seed in 1 2 3; do for s in acceleration velocity; do one ring40 r.pellet 40 40 $seed $s 0,40 ""; done; done ;;
     cyl620)
       y=$(yardstick rapier-620); [ -n "$y" ] && echo "yardstick rapier-620 cpu_s $y"
       for s in acceleration velocity; do one cyl620 c.pellet 91.58 620 1 $s 0,100 "$y"; done ;;
-    *) echo "bench-steppers: unknown case $c (sph690, cyl40, cyl620)" >&2; exit 2 ;;
+    *) echo "bench-steppers: unknown case $c (sph690, cyl40, ring40, cyl620)" >&2; exit 2 ;;
   esac
 done

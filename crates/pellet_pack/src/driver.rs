@@ -90,7 +90,58 @@ pub struct RunSummary {
     pub max_penetration_m: f64,
     /// Engine substeps taken.
     pub substeps: u64,
+    /// The contact solve over the last `SOLVER_WINDOW_S` simulated (of the part of the run
+    /// this call made).
+    pub solver: SolverStats,
 }
+
+/// How the contact solve fared over a stretch of a run (velocity-level stepper; zeros for the
+/// force-level one, which counts none of these).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SolverStats {
+    /// Engine steps.
+    pub steps: u64,
+    /// Steps whose solve ended unconverged.
+    pub unconverged: u64,
+    /// Contact points, summed over steps.
+    pub contacts: u64,
+    /// Pairs (pellet–pellet or pellet–wall) with contact points, summed over steps.
+    pub pairs: u64,
+    /// Contacts that carried load, summed over steps.
+    pub loaded: u64,
+    /// Of those, the ones warm started from the step before.
+    pub loaded_warm: u64,
+}
+
+impl SolverStats {
+    fn add(&mut self, o: &SolverStats) {
+        self.steps += o.steps;
+        self.unconverged += o.unconverged;
+        self.contacts += o.contacts;
+        self.pairs += o.pairs;
+        self.loaded += o.loaded;
+        self.loaded_warm += o.loaded_warm;
+    }
+
+    /// Contact points per pair in contact.
+    pub fn contacts_per_pair(&self) -> f64 {
+        self.contacts as f64 / self.pairs.max(1) as f64
+    }
+
+    /// Fraction of the loaded contacts that were warm started.
+    pub fn warm_start_rate(&self) -> f64 {
+        self.loaded_warm as f64 / self.loaded.max(1) as f64
+    }
+
+    /// Fraction of the steps whose solve converged.
+    pub fn converged_rate(&self) -> f64 {
+        1.0 - self.unconverged as f64 / self.steps.max(1) as f64
+    }
+}
+
+/// The stretch of simulated time at the end of a run that [`RunSummary::solver`] covers, s:
+/// the bed at rest, where every loaded contact should be warm started.
+pub const SOLVER_WINDOW_S: f64 = 0.1;
 
 /// A run that cannot start or failed.
 #[derive(Debug, thiserror::Error)]
@@ -188,6 +239,7 @@ pub fn resume_pack(
         run: run.clone(),
         impulses: pipeline.warm_impulses(),
     };
+    let mut recent: std::collections::VecDeque<(f64, SolverStats)> = Default::default();
     let ending = loop {
         let t = world.time();
         if config.checkpoint_every_s > 0.0 && t + 1e-12 >= run.next_checkpoint {
@@ -223,6 +275,20 @@ pub fn resume_pack(
         let report = world
             .step(STEP_S, &mut pipeline)
             .map_err(|e| PackError::Engine { time_s: world.time(), message: e.to_string() })?;
+        recent.push_back((
+            world.time(),
+            SolverStats {
+                steps: report.substeps as u64,
+                unconverged: report.unconverged_islands as u64,
+                contacts: report.contacts,
+                pairs: report.contact_pairs,
+                loaded: report.loaded_contacts,
+                loaded_warm: report.loaded_warm,
+            },
+        ));
+        while recent.front().is_some_and(|(t, _)| *t < world.time() - SOLVER_WINDOW_S + 1e-9) {
+            recent.pop_front();
+        }
         run.max_penetration = run.max_penetration.max(report.max_penetration);
         run.substeps += report.substeps as u64;
         let ledger = world.energy();
@@ -291,6 +357,10 @@ pub fn resume_pack(
         settle,
         max_penetration_m: run.max_penetration,
         substeps: run.substeps,
+        solver: recent.iter().fold(SolverStats::default(), |mut a, (_, s)| {
+            a.add(s);
+            a
+        }),
     })
 }
 

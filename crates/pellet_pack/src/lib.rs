@@ -18,7 +18,10 @@ mod setup;
 
 pub use checkpoint::{resume_conflicts, Checkpoint, CHECKPOINT_VERSION};
 pub use config::{Amount, ClampRule, ContactModel, PackConfig, PackOptions, Stepper, DEFAULT_STEPPER};
-pub use driver::{check_setup, engine_params, resume_pack, run_pack, Ending, PackError, Progress, RunSink, RunSummary};
+pub use driver::{
+    check_setup, engine_params, resume_pack, run_pack, Ending, PackError, Progress, RunSink, RunSummary, SolverStats,
+    SOLVER_WINDOW_S,
+};
 pub use loading::{batch_height_per_pellet, Feeder, FeederState, LoadingScheme, Spawn};
 
 /// A configuration value out of range; the message names the flag and the range.

@@ -6,8 +6,9 @@
 //! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo test --release -p pellet_pack --test diag_restart -- --ignored --nocapture`
 //!
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
-//! run; `VELOCITY` runs the velocity-level stepper; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g) change one
-//! setting, and `CONTACTS` lists the fastest pellet's contacts after every step. The tube and
+//! run, `STEP` the engine call's step (s, default 1/40); `VELOCITY` runs the velocity-level stepper; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g) change one
+//! setting, and `CONTACTS` lists the fastest pellet's contacts (or pellet `BODY`'s, whose motion is
+//! printed too) after every step. The tube and
 //! pellet are the trajectory's; materials and engine parameters are pack's defaults.
 
 mod common;
@@ -72,7 +73,7 @@ fn restart_from_a_frame() {
     );
     let start: Vec<Vec3> = world.bodies().iter().map(|b| b.position).collect();
     let mut pipeline = Pipeline::new();
-    let step = 1.0 / 40.0;
+    let step = env_f64("STEP", 1.0 / 40.0);
     let clock = std::time::Instant::now();
     while world.time() < secs - 1e-9 {
         let e0 = world.energy().total();
@@ -105,13 +106,22 @@ fn restart_from_a_frame() {
             r.dt_min,
             r.dt_max
         );
+        if let Some(k) = std::env::var("BODY").ok().and_then(|v| v.parse::<usize>().ok()) {
+            let b = &world.bodies()[k];
+            println!(
+                "  #{k}: x {:?} mm, v {:.2e} m/s, ω {:?} rad/s",
+                (b.position * 1e3).as_slice().iter().map(|v| format!("{v:.5}")).collect::<Vec<_>>(),
+                b.velocity().norm(),
+                b.angular_velocity().as_slice().iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>(),
+            );
+        }
         if std::env::var("CONTACTS").is_ok() {
             let vel = |k: usize, r: &Vec3| {
                 let b = &world.bodies()[k];
                 b.velocity() + b.angular_velocity().cross(r)
             };
-            for rec in
-                pipeline.last_contacts().iter().filter(|r| r.contact.a == fast || r.contact.b_body() == Some(fast))
+            let who = std::env::var("BODY").ok().and_then(|v| v.parse::<usize>().ok()).unwrap_or(fast);
+            for rec in pipeline.last_contacts().iter().filter(|r| r.contact.a == who || r.contact.b_body() == Some(who))
             {
                 let c = &rec.contact;
                 let u = vel(c.a, &c.lever_a) - c.b_body().map_or(Vec3::zeros(), |k| vel(k, &c.lever_b));

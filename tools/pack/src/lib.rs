@@ -386,6 +386,17 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     );
     if !args.quiet {
         eprintln!("{line}");
+        let s = &summary.solver;
+        if s.pairs > 0 {
+            eprintln!(
+                "pack: contact solve over the last {} s: {:.2} contact points a pair, {:.1} % of loaded contacts warm started, {:.1} % of {} steps converged",
+                pellet_pack::SOLVER_WINDOW_S,
+                s.contacts_per_pair(),
+                100.0 * s.warm_start_rate(),
+                100.0 * s.converged_rate(),
+                s.steps
+            );
+        }
     }
     match summary.ending {
         Ending::Settled => {

@@ -200,6 +200,39 @@ fn the_batch_scheme_releases_every_pellet_at_once_and_settles() {
     assert!(!dir.path().join("f.mcap").exists());
 }
 
+/// The velocity-level stepper's summary says how its contact solve fared at the end of the run:
+/// a small bed at rest has every loaded contact warm started and every solve converged.
+#[test]
+fn the_velocity_stepper_reports_its_contact_solve() {
+    let dir = setup();
+    let args = [
+        "--pellet",
+        "s.pellet",
+        "--tube-diameter",
+        "30",
+        "--count",
+        "12",
+        "--scheme",
+        "batch",
+        "--stepper",
+        "velocity",
+        "-o",
+        "v.mcap",
+    ];
+    let out = pack(dir.path(), &args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let line = err.lines().find(|l| l.contains("contact solve over the last 0.1 s")).expect("the solve's line");
+    let figure = |after: &str| -> f64 {
+        let tail = &line[line.find(after).unwrap_or_else(|| panic!("{after} in {line}")) + after.len()..];
+        tail.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    // Spheres: one point a pair.
+    assert_eq!(figure("0.1 s: "), 1.0, "{line}");
+    assert_eq!(figure("a pair, "), 100.0, "{line}");
+    assert_eq!(figure("warm started, "), 100.0, "{line}");
+}
+
 /// A case file's relative paths name files beside it, whatever the working directory.
 #[test]
 fn case_file_paths_are_relative_to_the_case_file() {
