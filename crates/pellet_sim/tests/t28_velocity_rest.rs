@@ -71,40 +71,35 @@ fn one(ty: BodyType, x: Vec3, q: Quat) -> Rest {
     hold(&mut w, 1.0)
 }
 
-fn report(name: &str, r: &Rest) {
+/// At rest to 1e-8 m/s, no loaded contact started cold, net friction within 1e-6 of the weight.
+fn assert_rests(name: &str, r: &Rest) {
     println!(
         "{name}: |v| max {:.2e} m/s, loaded contacts {}, keys lost {}, net friction / weight {:.2e}",
         r.vmax, r.loaded, r.lost_keys, r.friction
     );
+    assert!(r.vmax <= 1e-8, "{name}: speed {}", r.vmax);
+    assert_eq!(r.lost_keys, 0, "{name}: loaded contacts started cold");
+    assert!(r.friction <= 1e-6, "{name}: net friction {}", r.friction);
 }
 
 #[test]
 fn cylinder_on_its_cap() {
     let r = one(BodyType::solid_cylinder(0.005, 0.005).unwrap(), Vec3::new(0.0, 0.0, 0.005), Quat::identity());
-    report("cylinder on its cap", &r);
-    assert!(r.vmax <= 1e-8);
-    assert_eq!(r.lost_keys, 0);
-    assert!(r.friction <= 1e-6);
+    assert_rests("cylinder on its cap", &r);
 }
 
 #[test]
 fn cylinder_on_its_side() {
     let q = Quat::from_axis_angle(&Vec3::y_axis(), FRAC_PI_2);
     let r = one(BodyType::solid_cylinder(0.005, 0.005).unwrap(), Vec3::new(0.0, 0.0, 0.005), q);
-    report("cylinder on its side", &r);
-    assert!(r.vmax <= 1e-8);
-    assert_eq!(r.lost_keys, 0);
-    assert!(r.friction <= 1e-6);
+    assert_rests("cylinder on its side", &r);
 }
 
 #[test]
 fn ring_on_its_face() {
     let ring = BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap();
     let r = one(ring, Vec3::new(0.001, -0.002, 0.005), Quat::identity());
-    report("ring on its face", &r);
-    assert!(r.vmax <= 1e-8);
-    assert_eq!(r.lost_keys, 0);
-    assert!(r.friction <= 1e-6);
+    assert_rests("ring on its face", &r);
 }
 
 #[test]
@@ -112,8 +107,5 @@ fn ring_on_its_side() {
     let ring = BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap();
     let q = Quat::from_axis_angle(&Vec3::x_axis(), FRAC_PI_2);
     let r = one(ring, Vec3::new(0.001, -0.002, 0.005), q);
-    report("ring on its side", &r);
-    assert!(r.vmax <= 1e-8);
-    assert_eq!(r.lost_keys, 0);
-    assert!(r.friction <= 1e-6);
+    assert_rests("ring on its side", &r);
 }
