@@ -5,6 +5,7 @@
 //! Also: a sphere against any shape (its centre in the shape's SDF, one point).
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
+use super::contact_lateral::{lateral_hit, side_on_side, LATERAL};
 use super::narrow_phase::Pellet;
 use super::patch::{patches, reduce, Hit, NEAR_BAND, WEDGE_COS};
 use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
@@ -96,6 +97,9 @@ struct OneWay<'a> {
     rs: Mat3,
     rd: Mat3,
     src_is_b: bool,
+    /// The two outer lateral surfaces meet where their exact contact (`contact_lateral`) is:
+    /// samples of one side on the other give no hits.
+    sides_exact: bool,
 }
 
 impl<'a> OneWay<'a> {
@@ -103,7 +107,7 @@ impl<'a> OneWay<'a> {
         let (rs, rd) = (rotation(&src), rotation(&dst));
         let m = rd.transpose() * rs;
         let t = rd.transpose() * (src.body.position - dst.body.position);
-        Self { src, dst, m, t, rs, rd, src_is_b }
+        Self { src, dst, m, t, rs, rd, src_is_b, sides_exact: false }
     }
 
     /// dst's signed distance at body-frame point `s` of src (no gradient: the callers cull and
@@ -141,6 +145,9 @@ impl<'a> OneWay<'a> {
             }
         }
         if align <= MIN_ALIGN {
+            return None;
+        }
+        if self.sides_exact && side_on_side(self.src.shape, s, &self.src.geom.cones[i], self.dst.shape, &pd, &g) {
             return None;
         }
         if let Some((n, gap)) = self.edge_edge(s, i, &pd, &cone) {
@@ -325,7 +332,11 @@ pub fn sampled_pair(
     kept: &[u32],
     out: &mut Vec<Contact>,
 ) {
-    let ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
+    let mut ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
+    let lateral = lateral_hit(&a, &b);
+    if lateral.is_some() {
+        ways.iter_mut().for_each(|w| w.sides_exact = true);
+    }
     // Room for the pair's hits at once: growing from empty was 3-4 % of a cylinder bed (faces
     // on faces give hundreds of ~200-byte hits). With the cache, its candidates bound them.
     let mut hits = Vec::new();
@@ -348,6 +359,7 @@ pub fn sampled_pair(
             }
         }
     }
+    hits.extend(lateral.filter(|h| h.gap <= max_gap));
     contacts_of(a, b, hits, kept, out);
 }
 
@@ -365,7 +377,9 @@ fn contacts_of(a: Pellet<'_>, b: Pellet<'_>, mut hits: Vec<Hit>, kept: &[u32], o
 
 /// Re-evaluates the sampled contact with `feature` at the current poses (own normal).
 pub fn sampled_feature(a: Pellet<'_>, b: Pellet<'_>, feature: u32) -> Option<Contact> {
-    let h = if feature & SIDE_B != 0 {
+    let h = if feature == LATERAL {
+        lateral_hit(&a, &b)?
+    } else if feature & SIDE_B != 0 {
         OneWay::new(b, a, true).feature(feature)?
     } else {
         OneWay::new(a, b, false).feature(feature)?

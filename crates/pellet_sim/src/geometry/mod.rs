@@ -2,6 +2,7 @@
 
 pub mod broad_phase;
 pub mod contact;
+pub(crate) mod contact_lateral;
 pub mod contact_sampled;
 pub mod contact_shape_wall;
 pub mod contact_sphere_sphere;
