@@ -61,7 +61,8 @@ fn packs_a_few_cylinders_end_to_end() {
 /// Two 10 mm cylinders at random poses overlapping by 0.1 mm (closed form): the closed-form SDF path and the mesh
 /// path (parry signed-distance grid of a sharp 256-segment cylinder mesh) on the same samples
 /// must find the same deepest contact: depth within 0.1 mm (≈ cell 0.18 mm / 2) and point
-/// within 0.5 mm.
+/// within half the spacing of the side's sample rings (1 mm): where the sides cross, the
+/// closed form's point is exact (`contact_lateral`), the mesh path's the nearest sample.
 #[test]
 fn closed_form_and_mesh_paths_agree() {
     let spec = ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 };
@@ -119,7 +120,8 @@ fn closed_form_and_mesh_paths_agree() {
     }
     println!("closed form vs mesh grid, {n} overlapping poses: depth difference ≤ {worst_depth:.2e} m, point ≤ {worst_point:.2e} m");
     assert!(worst_depth < 1e-4, "depth {worst_depth}");
-    assert!(worst_point < 5e-4, "point {worst_point}");
+    // Side sample rings 2h/5 = 2 mm apart.
+    assert!(worst_point < 1e-3, "point {worst_point}");
 }
 
 /// A small cylinder bed comes to rest in pack's model. Before the exact fallback
