@@ -8,7 +8,7 @@
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
 //! run, `STEP` the engine call's step (s, default 1/40); `VELOCITY` runs the velocity-level stepper; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g) change one
 //! setting, and `CONTACTS` lists the fastest pellet's contacts (or pellet `BODY`'s, whose motion is
-//! printed too) after every step. The tube and
+//! printed too) after every step; `PAIRS` counts contact points per pair. The tube and
 //! pellet are the trajectory's; materials and engine parameters are pack's defaults.
 
 mod common;
@@ -59,6 +59,7 @@ fn restart_from_a_frame() {
     if std::env::var("VELOCITY").is_ok() {
         params.stepper = pellet_sim::Stepper::Velocity;
     }
+
     if std::env::var("PGS_ONLY").is_ok() {
         params.iterative_solver = pellet_sim::IterativeSolver::Pgs;
     }
@@ -113,6 +114,47 @@ fn restart_from_a_frame() {
                 (b.position * 1e3).as_slice().iter().map(|v| format!("{v:.5}")).collect::<Vec<_>>(),
                 b.velocity().norm(),
                 b.angular_velocity().as_slice().iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>(),
+            );
+        }
+        if std::env::var("PAIRS").is_ok() {
+            // Contact points per pair (pellet–pellet and pellet–wall), and how many distinct
+            // normals (patches) and loaded points the pairs with the most points have.
+            let mut pairs: std::collections::BTreeMap<(usize, String), Vec<&pellet_sim::ContactRecord>> =
+                Default::default();
+            for rec in pipeline.last_contacts() {
+                pairs.entry((rec.contact.a, format!("{:?}", rec.contact.b))).or_default().push(rec);
+            }
+            let mut hist = [0usize; 12];
+            let (mut patches, mut loaded, mut many) = (0usize, 0usize, 0usize);
+            for recs in pairs.values() {
+                hist[recs.len().min(11)] += 1;
+                if recs.len() >= 5 {
+                    many += 1;
+                    let mut normals: Vec<Vec3> = Vec::new();
+                    for r in recs {
+                        if !normals.iter().any(|n| n.dot(&r.contact.normal) > 0.9998) {
+                            normals.push(r.contact.normal);
+                        }
+                    }
+                    patches += normals.len();
+                    loaded += recs.iter().filter(|r| r.normal_force > 0.0).count();
+                }
+            }
+            if let Some(recs) = pairs.values().filter(|r| r.len() >= 6).nth(3) {
+                for r in recs {
+                    let c = &r.contact;
+                    println!(
+                        "    {}–{:?} key {:x} n [{:.3} {:.3} {:.3}] gap {:.2e} f {:.1e}",
+                        c.a, c.b, c.key.feature, c.normal.x, c.normal.y, c.normal.z, c.gap, r.normal_force
+                    );
+                }
+            }
+            println!(
+                "  pairs {} by points (0..11+): {:?}; pairs with >= 5 points: {many}, {:.1} patches and {:.1} loaded points each",
+                pairs.len(),
+                &hist[1..],
+                patches as f64 / many.max(1) as f64,
+                loaded as f64 / many.max(1) as f64
             );
         }
         if std::env::var("CONTACTS").is_ok() {

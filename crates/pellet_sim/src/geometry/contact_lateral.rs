@@ -82,11 +82,20 @@ pub(crate) fn lateral_hit(a: &Pellet<'_>, b: &Pellet<'_>) -> Option<Hit> {
     Some(Hit { pa, pb, normal, gap, feature: LATERAL, owner: NormalOwner::B, wedge: None })
 }
 
-/// Whether a sampled hit is one of the two outer lateral surfaces on the other (the exact
-/// contact replaces those): `src_cone` is the sample's outward normal in its body frame (equal
-/// ends on a smooth face) and `src_point` the sample; `dst_point` and `dst_normal` the point and
-/// the SDF's outward normal in the other body's frame.
-pub(crate) fn side_on_side(
+/// Whether a sampled hit between two cylinders or rings adds nothing that the exact contacts
+/// do not give: a side sample on the other's side or cap, or a cap sample on the other's side.
+/// Where two outer sides meet, the deepest point is the axes' common perpendicular
+/// ([`lateral_hit`]) or lies on a rim; where a side lies on a cap, the contact is a segment
+/// whose ends are rims (the side's ends or the cap's edge), and along it the gap is linear, so
+/// no point inside is deeper than both ends. The rims' samples are refined to their exact
+/// deepest points. The sampled hits in between came with normals fanned over the curved side,
+/// 1.3° apart, each its own patch: up to 19 points and 7 loaded ones for one pair lying on
+/// another's cap, rows that only slowed the solve and made its answer depend on the order.
+///
+/// `src_cone` is the sample's outward normal cone in its body frame (equal ends on a smooth
+/// face) and `src_point` the sample; `dst_point` and `dst_normal` the point and the SDF's
+/// outward normal in the other body's frame. Ring bores (concave) are kept.
+pub(crate) fn redundant_hit(
     src: &ShapeDesc,
     src_point: &Vec3,
     src_cone: &(Vec3, Vec3),
@@ -94,7 +103,14 @@ pub(crate) fn side_on_side(
     dst_point: &Vec3,
     dst_normal: &Vec3,
 ) -> bool {
-    let outer =
-        |shape: &ShapeDesc, p: &Vec3, n: &Vec3| side(shape).is_some() && n.z == 0.0 && n.x * p.x + n.y * p.y > 0.0;
-    src_cone.0 == src_cone.1 && outer(src, src_point, &src_cone.0) && outer(dst, dst_point, dst_normal)
+    if side(src).is_none() || side(dst).is_none() || src_cone.0 != src_cone.1 {
+        return false;
+    }
+    let outer_side = |p: &Vec3, n: &Vec3| n.z == 0.0 && n.x * p.x + n.y * p.y > 0.0;
+    let cap = |n: &Vec3| n.x == 0.0 && n.y == 0.0;
+    let src_on_side = outer_side(src_point, &src_cone.0);
+    let src_on_cap = cap(&src_cone.0);
+    let dst_side = outer_side(dst_point, dst_normal);
+    let dst_cap = cap(dst_normal);
+    (src_on_side && (dst_side || dst_cap)) || (src_on_cap && dst_side)
 }

@@ -5,7 +5,7 @@
 //! Also: a sphere against any shape (its centre in the shape's SDF, one point).
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
-use super::contact_lateral::{lateral_hit, side_on_side, LATERAL};
+use super::contact_lateral::{lateral_hit, redundant_hit, LATERAL};
 use super::narrow_phase::Pellet;
 use super::patch::{patches, reduce, Hit, NEAR_BAND, WEDGE_COS};
 use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
@@ -97,9 +97,6 @@ struct OneWay<'a> {
     rs: Mat3,
     rd: Mat3,
     src_is_b: bool,
-    /// The two outer lateral surfaces meet where their exact contact (`contact_lateral`) is:
-    /// samples of one side on the other give no hits.
-    sides_exact: bool,
 }
 
 impl<'a> OneWay<'a> {
@@ -107,7 +104,7 @@ impl<'a> OneWay<'a> {
         let (rs, rd) = (rotation(&src), rotation(&dst));
         let m = rd.transpose() * rs;
         let t = rd.transpose() * (src.body.position - dst.body.position);
-        Self { src, dst, m, t, rs, rd, src_is_b, sides_exact: false }
+        Self { src, dst, m, t, rs, rd, src_is_b }
     }
 
     /// dst's signed distance at body-frame point `s` of src (no gradient: the callers cull and
@@ -147,7 +144,7 @@ impl<'a> OneWay<'a> {
         if align <= MIN_ALIGN {
             return None;
         }
-        if self.sides_exact && side_on_side(self.src.shape, s, &self.src.geom.cones[i], self.dst.shape, &pd, &g) {
+        if redundant_hit(self.src.shape, s, &self.src.geom.cones[i], self.dst.shape, &pd, &g) {
             return None;
         }
         if let Some((n, gap)) = self.edge_edge(s, i, &pd, &cone) {
@@ -332,11 +329,8 @@ pub fn sampled_pair(
     kept: &[u32],
     out: &mut Vec<Contact>,
 ) {
-    let mut ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
+    let ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
     let lateral = lateral_hit(&a, &b);
-    if lateral.is_some() {
-        ways.iter_mut().for_each(|w| w.sides_exact = true);
-    }
     // Room for the pair's hits at once: growing from empty was 3-4 % of a cylinder bed (faces
     // on faces give hundreds of ~200-byte hits). With the cache, its candidates bound them.
     let mut hits = Vec::new();
