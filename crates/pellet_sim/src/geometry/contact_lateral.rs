@@ -106,11 +106,23 @@ pub(crate) fn redundant_hit(
     if side(src).is_none() || side(dst).is_none() || src_cone.0 != src_cone.1 {
         return false;
     }
-    let outer_side = |p: &Vec3, n: &Vec3| n.z == 0.0 && n.x * p.x + n.y * p.y > 0.0;
     let cap = |n: &Vec3| n.x == 0.0 && n.y == 0.0;
     let src_on_side = outer_side(src_point, &src_cone.0);
     let src_on_cap = cap(&src_cone.0);
-    let dst_side = outer_side(dst_point, dst_normal);
+    let dst_side = on_outer_side(dst, dst_point, dst_normal);
     let dst_cap = cap(dst_normal);
     (src_on_side && (dst_side || dst_cap)) || (src_on_cap && dst_side)
+}
+
+/// Whether a cylinder's or ring's surface normal `n` at body-frame point `p` is its outer
+/// side's (radial, outwards; a ring's bore faces inwards).
+fn outer_side(p: &Vec3, n: &Vec3) -> bool {
+    n.z == 0.0 && n.x * p.x + n.y * p.y > 0.0
+}
+
+/// Whether the signed distance of `shape` at body-frame point `p` took its outer side's face
+/// (its gradient `n` radial and outwards): the side of a cylinder or a ring, not a cap, an
+/// edge or a ring's bore.
+pub(crate) fn on_outer_side(shape: &ShapeDesc, p: &Vec3, n: &Vec3) -> bool {
+    side(shape).is_some() && outer_side(p, n)
 }

@@ -5,7 +5,7 @@
 //! Also: a sphere against any shape (its centre in the shape's SDF, one point).
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
-use super::contact_lateral::{lateral_hit, redundant_hit, LATERAL};
+use super::contact_lateral::{lateral_hit, on_outer_side, redundant_hit, LATERAL};
 use super::narrow_phase::Pellet;
 use super::patch::{patches, reduce, Hit, NEAR_BAND, WEDGE_COS};
 use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
@@ -97,6 +97,8 @@ struct OneWay<'a> {
     rs: Mat3,
     rd: Mat3,
     src_is_b: bool,
+    /// A rim crossing a convex side gives only its refined point (`sampled_pair`'s `lean`).
+    lean: bool,
 }
 
 impl<'a> OneWay<'a> {
@@ -104,7 +106,7 @@ impl<'a> OneWay<'a> {
         let (rs, rd) = (rotation(&src), rotation(&dst));
         let m = rd.transpose() * rs;
         let t = rd.transpose() * (src.body.position - dst.body.position);
-        Self { src, dst, m, t, rs, rd, src_is_b }
+        Self { src, dst, m, t, rs, rd, src_is_b, lean: false }
     }
 
     /// dst's signed distance at body-frame point `s` of src (no gradient: the callers cull and
@@ -145,6 +147,18 @@ impl<'a> OneWay<'a> {
             return None;
         }
         if redundant_hit(self.src.shape, s, &self.src.geom.cones[i], self.dst.shape, &pd, &g) {
+            return None;
+        }
+        // A rim crosses a convex side at points: the refined deepest point of each valley
+        // along the rim (`visit`) is the contact, and the rim samples beside it, each with the
+        // side's normal where it lies (fanned by 5° over three samples), add only rows that
+        // fight it in the velocity stepper's solve. The force-level stepper keeps them: its
+        // 20-cylinder bed in `pellet_pack`'s shapes test then rocks past 4 s without them.
+        if self.lean
+            && self.src.geom.rim_of[i] != u32::MAX
+            && feature & REFINED == 0
+            && on_outer_side(self.dst.shape, &pd, &g)
+        {
             return None;
         }
         if let Some((n, gap)) = self.edge_edge(s, i, &pd, &cone) {
@@ -320,16 +334,20 @@ fn contact(a: &Pellet<'_>, b: &Pellet<'_>, h: &Hit, normal: Vec3, owner: NormalO
 /// Sampled contacts between two pellets, both ways, patched and reduced. With `cache`, the
 /// samples that can touch are kept across calls while the pair's relative pose allows it
 /// (`sample_cache`): the same contacts, bit for bit. `kept` (sorted features) are the points
-/// the reduction prefers (`patch::reduce`).
+/// the reduction prefers (`patch::reduce`); `lean`: a rim crossing a convex side gives only its
+/// refined deepest point.
+#[allow(clippy::too_many_arguments)]
 pub fn sampled_pair(
     a: Pellet<'_>,
     b: Pellet<'_>,
     max_gap: Real,
     cache: Option<&mut PairSamples>,
     kept: &[u32],
+    lean: bool,
     out: &mut Vec<Contact>,
 ) {
-    let ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
+    let mut ways = [OneWay::new(a, b, false), OneWay::new(b, a, true)];
+    ways.iter_mut().for_each(|w| w.lean = lean);
     let lateral = lateral_hit(&a, &b);
     // Room for the pair's hits at once: growing from empty was 3-4 % of a cylinder bed (faces
     // on faces give hundreds of ~200-byte hits). With the cache, its candidates bound them.

@@ -34,7 +34,7 @@ pub struct Pellet<'a> {
 
 /// Appends the contacts between pellets `a` and `b` with gap ≤ `max_gap` to `out`.
 pub fn collide_pair(a: Pellet<'_>, b: Pellet<'_>, max_gap: Real, out: &mut Vec<Contact>) -> Result<(), SimError> {
-    collide(a, b, max_gap, None, &[], out)
+    collide(a, b, max_gap, None, &[], false, out)
 }
 
 /// [`collide_pair`] with the sampled pairs' candidate samples kept in `cache` across calls
@@ -46,13 +46,14 @@ pub fn collide_pair_cached(
     cache: &mut SampleCache,
     out: &mut Vec<Contact>,
 ) -> Result<(), SimError> {
-    collide(a, b, max_gap, Some(cache), &[], out)
+    collide(a, b, max_gap, Some(cache), &[], false, out)
 }
 
-/// [`collide_pair_cached`] that keeps the points of the pair's last contacts: where one of
-/// `kept` (features, sorted) is as good a choice for a patch's point as the best up to a small
-/// margin (`patch::reduce`), it is the one taken, so that the contacts of a pair at rest keep
-/// their keys, and their impulses, from step to step.
+/// [`collide_pair_cached`] for the velocity-level stepper: it keeps the points of the pair's
+/// last contacts (where one of `kept`, features sorted, is as good a choice for a patch's point
+/// as the best up to a small margin, `patch::reduce`, it is the one taken, so that the contacts
+/// of a pair at rest keep their keys and impulses from step to step), and a rim crossing a
+/// convex side gives only its refined deepest point.
 pub fn collide_pair_kept(
     a: Pellet<'_>,
     b: Pellet<'_>,
@@ -61,7 +62,7 @@ pub fn collide_pair_kept(
     kept: &[u32],
     out: &mut Vec<Contact>,
 ) -> Result<(), SimError> {
-    collide(a, b, max_gap, Some(cache), kept, out)
+    collide(a, b, max_gap, Some(cache), kept, true, out)
 }
 
 fn collide(
@@ -70,11 +71,12 @@ fn collide(
     max_gap: Real,
     cache: Option<&mut SampleCache>,
     kept: &[u32],
+    lean: bool,
     out: &mut Vec<Contact>,
 ) -> Result<(), SimError> {
     match sphere_pair(a, b, max_gap) {
         Some(one) => out.extend(one),
-        None => sampled_pair(a, b, max_gap, cache.map(|c| c.entry(a.index, b.index)), kept, out),
+        None => sampled_pair(a, b, max_gap, cache.map(|c| c.entry(a.index, b.index)), kept, lean, out),
     }
     Ok(())
 }
