@@ -7,9 +7,12 @@
 //! | 2 | any error, including usage errors |
 //!
 //! Errors are printed once, here, as `tool: error: message` on one line
-//! (causes joined with `: `). A closed stdout (broken pipe) ends the tool
-//! quietly with exit 0; any other failure to write stdout (a full disk) is an
-//! error. Results go to stdout ([`print_stdout`]); diagnostics and progress to stderr.
+//! (causes joined with `: `). A reader of stdout that went away (broken pipe)
+//! ends the tool quietly with exit 0; any other failure to write stdout (a full
+//! disk, or a stdout closed when the tool started: `tool >&-`) is an error.
+//! Results go to stdout ([`print_stdout`]); diagnostics and progress to stderr.
+//! Two outputs naming the same file, or an output naming an input, are refused
+//! before any work ([`refuse_clashing_outputs`]).
 #![deny(missing_docs)]
 
 use std::io::Write;
@@ -17,7 +20,7 @@ use std::process::ExitCode;
 
 mod same_file;
 
-pub use same_file::refuse_overwriting_inputs;
+pub use same_file::{refuse_clashing_outputs, refuse_overwriting_inputs};
 
 use clap::Parser;
 
@@ -48,10 +51,15 @@ pub fn main<A: Parser>(tool: &str, run: impl FnOnce(A) -> anyhow::Result<Outcome
         Err(e) => {
             // --help and --version are successes, unless their text could not be written;
             // usage errors exit 2.
-            let printed = e.print().and_then(|()| std::io::stdout().flush());
             if e.use_stderr() {
+                let _ = e.print();
                 return ExitCode::from(EXIT_ERROR);
             }
+            if let Err(closed) = pellet_io::require_stdout() {
+                eprintln!("{tool}: error: {closed}");
+                return ExitCode::from(EXIT_ERROR);
+            }
+            let printed = e.print().and_then(|()| std::io::stdout().flush());
             return match printed {
                 Err(io) if io.kind() != std::io::ErrorKind::BrokenPipe => {
                     eprintln!("{tool}: error: {}", one_line(&stdout_error(io)));
@@ -97,8 +105,10 @@ pub fn one_line(e: &anyhow::Error) -> String {
 }
 
 /// Writes a tool's text result to stdout and flushes it. Unlike `print!`, which panics, a
-/// failed write is returned as an error for [`main`] to report (a broken pipe ends quietly).
+/// failed write is returned as an error for [`main`] to report (a broken pipe ends quietly),
+/// and so is a stdout that was closed at start, where the text would vanish.
 pub fn print_stdout(text: &str) -> anyhow::Result<()> {
+    pellet_io::require_stdout()?;
     let mut out = std::io::stdout().lock();
     out.write_all(text.as_bytes()).and_then(|()| out.flush()).map_err(stdout_error)
 }

@@ -80,8 +80,12 @@ pub fn is_special_file(path: &Path) -> bool {
 /// each is first written in full to a temporary file beside its target,
 /// and only when all are complete are they renamed into place. Special
 /// files (devices, FIFOs: [`is_special_file`]) are written in place after
-/// that, and stdout (`-`) last.
+/// that, and stdout (`-`) last. An output to a stdout that was closed at start is refused
+/// before anything is written.
 pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
+    if outputs.iter().any(|o| o.path == "-") {
+        crate::require_stdout()?;
+    }
     let (in_place, renamed): (Vec<&OutputFile>, Vec<&OutputFile>) =
         outputs.iter().filter(|o| o.path != "-").partition(|o| is_special_file(Path::new(&o.path)));
     let mut staged = Vec::new();

@@ -91,6 +91,7 @@ mod mesh_files;
 mod packing_file;
 mod pellet_file;
 mod poses_csv;
+mod stdout;
 mod trajectory;
 
 pub use atomic::{is_special_file, read_input, remove_temporary_files_on_signal, write_outputs, OutputFile};
@@ -100,6 +101,7 @@ pub use packing_file::{
 };
 pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELLET_FORMAT_VERSION, PELLET_MAGIC};
 pub use poses_csv::decode_poses_csv;
+pub use stdout::{require_stdout, stdout_closed};
 pub use trajectory::{
     decode_message, encode_message, read_trajectory, EnergyRecord, Frame, Trajectory, TrajectoryHeader,
     TrajectoryWriter, CHECKPOINT_TOPIC, ENERGY_TOPIC, MESSAGE_ENCODING, POSES_TOPIC, RUN_METADATA, TRAJECTORY_PROFILE,
@@ -108,6 +110,11 @@ pub use trajectory::{
 /// What can go wrong reading or writing packbed's files.
 #[derive(Debug, thiserror::Error)]
 pub enum IoError {
+    /// The tool was started with stdout closed (`>&-`), and a result was to go there.
+    #[error(
+        "cannot write to standard output: it is closed; redirect it to a file (or to /dev/null to discard the output)"
+    )]
+    StdoutClosed,
     /// The operating system refused a read or write.
     #[error("{path}: {source}")]
     Io {

@@ -225,7 +225,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         if !paths.is_empty() || args.window.is_some() {
             bail!("--openfoam writes a whole case; give it without the other outputs and --window");
         }
-        pellet_cli::refuse_overwriting_inputs([&args.packing], [("--openfoam".to_string(), dir.clone())])?;
+        pellet_cli::refuse_clashing_outputs([&args.packing], [("--openfoam".to_string(), dir.clone())])?;
         let bed = pellet_io::decode_packing(&pellet_io::read_input(&args.packing)?, &args.packing)?.bed;
         if bed.pellets.is_empty() {
             bail!("{}: the bed holds no pellets", args.packing);
@@ -238,9 +238,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             "nothing to export: give --openfoam or at least one of --stl, --tube-stl, --vtk, --vtk-centres, --voxels, --vti, --csv"
         );
     }
-    if paths.iter().filter(|p| p.as_str() == "-").count() > 1 {
-        bail!("only one output can go to stdout (-); give the others file names");
-    }
+    pellet_cli::refuse_clashing_outputs([&args.packing], args.output_flags())?;
     if args.voxels.as_deref() == Some("-") {
         bail!("--voxels needs a file name (its header is written beside it as FILE.json)");
     }
@@ -250,7 +248,6 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if args.tube_segments < 8 {
         bail!("--tube-segments must be at least 8 (got {})", args.tube_segments);
     }
-    pellet_cli::refuse_overwriting_inputs([&args.packing], args.output_flags())?;
     let file = pellet_io::decode_packing(&pellet_io::read_input(&args.packing)?, &args.packing)?;
     let bed = file.bed;
     if bed.pellets.is_empty() {

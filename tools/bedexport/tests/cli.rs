@@ -395,7 +395,7 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
         (&["bed.packing", "--voxels", "o.raw", "--voxels-per-dp", "-3"], "--voxels-per-dp"),
         (&["bed.packing", "--voxels", "o.raw", "--voxel-size", "0.001"], "choose larger voxels"),
         (&["bed.packing", "--stl", "o.stl", "--bridge-gap", "-1"], "--bridge-gap must be a finite number > 0"),
-        (&["bed.packing", "--stl", "-", "--csv", "-"], "only one output can go to stdout"),
+        (&["bed.packing", "--stl", "-", "--csv", "-"], "--stl and --csv both name - (stdout)"),
         (&["bed.packing", "--voxels", "-"], "--voxels needs a file name"),
     ];
     for (args, needle) in cases {
@@ -412,4 +412,55 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
     let help = bedexport(dir.path(), &["--help"], None);
     assert_ok(&help);
     assert!(String::from_utf8_lossy(&help.stdout).contains("x fastest"));
+}
+
+/// Runs bedexport with its stdout closed, as `bedexport … >&-` does; `Stdio::null()` would be
+/// an open stdout.
+fn bedexport_stdout_closed(dir: &Path, args: &[&str]) -> Output {
+    Command::new("sh")
+        .args(["-c", r#""$0" "$@" >&-"#, env!("CARGO_BIN_EXE_bedexport")])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run bedexport through sh")
+}
+
+#[test]
+fn two_outputs_naming_one_file_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&cylinder_bed())).unwrap();
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    std::fs::write(dir.path().join("old.stl"), b"old").unwrap();
+    std::os::unix::fs::symlink("old.stl", dir.path().join("link.stl")).unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--stl", "x", "--csv", "./x"], "--stl x and --csv ./x are the same file; give each output its own file"),
+        (&["--vtk", "x", "--vti", "x"], "--vtk and --vti both name x"),
+        (&["--tube-stl", "sub/../x", "--vtk-centres", "x"], "--tube-stl sub/../x and --vtk-centres x"),
+        (&["--stl", "link.stl", "--tube-stl", "old.stl"], "--stl link.stl and --tube-stl old.stl"),
+        (&["--voxels", "v.raw", "--csv", "v.raw.json"], "--csv and --voxels (its header) both name v.raw.json"),
+        (&["--vtk", "-", "--csv", "-"], "--vtk and --csv both name - (stdout)"),
+    ];
+    for (flags, needle) in cases {
+        let args: Vec<&str> = std::iter::once("bed.packing").chain(flags.iter().copied()).collect();
+        let out = bedexport(dir.path(), &args, None);
+        assert_error(&out, needle);
+        assert!(out.stdout.is_empty(), "{flags:?}: something was written to stdout");
+        for name in ["x", "v.raw", "v.raw.json"] {
+            assert!(!dir.path().join(name).exists(), "{flags:?}: {name} was written");
+        }
+        assert_eq!(std::fs::read(dir.path().join("old.stl")).unwrap(), b"old");
+    }
+}
+
+#[test]
+fn a_closed_stdout_is_an_error_not_a_silent_success() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&cylinder_bed())).unwrap();
+    // An output on stdout, and the summary that goes there when no output does.
+    for args in [&["bed.packing", "--csv", "-"][..], &["bed.packing", "--csv", "poses.csv"]] {
+        let out = bedexport_stdout_closed(dir.path(), args);
+        assert_error(&out, "cannot write to standard output: it is closed");
+    }
+    // --quiet prints no summary: nothing needs stdout.
+    assert_ok(&bedexport_stdout_closed(dir.path(), &["bed.packing", "--csv", "poses.csv", "--quiet"]));
 }

@@ -193,7 +193,7 @@ pub fn run(args: Args) -> Result<Outcome> {
         .into_iter()
         .chain(["porosity_vs_n.png", "porosity_vs_n.svg"])
         .map(|n| ("-o".to_string(), out_dir.join(n).display().to_string()));
-    pellet_cli::refuse_overwriting_inputs(profile_paths.iter().chain(&args.exp).chain(&args.summaries), written)?;
+    pellet_cli::refuse_clashing_outputs(profile_paths.iter().chain(&args.exp).chain(&args.summaries), written)?;
     let unit = match args.wall_unit {
         WallUnit::Dp => ZUnit::Dp,
         WallUnit::Dpv => ZUnit::Dpv,

@@ -537,3 +537,17 @@ fn same_inputs_give_identical_outputs() {
     };
     assert!(run() == run(), "outputs differ between two identical runs");
 }
+
+#[test]
+fn a_closed_stdout_is_an_error_not_a_silent_success() {
+    let dir = tempfile::tempdir().unwrap();
+    // `>&-` closes stdout; `Stdio::null()` would be an open one.
+    let out = Command::new("sh")
+        .args(["-c", r#""$0" "$@" >&-"#, env!("CARGO_BIN_EXE_compare"), "--list-refs"])
+        .current_dir(dir.path())
+        .output()
+        .expect("run compare through sh");
+    assert_error(&out, "cannot write to standard output: it is closed");
+    let discarded = Command::new(env!("CARGO_BIN_EXE_compare")).arg("--list-refs").stdout(Stdio::null()).status();
+    assert_eq!(discarded.unwrap().code(), Some(0));
+}

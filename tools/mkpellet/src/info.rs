@@ -20,8 +20,7 @@ pub fn run(input: &str, as_json: bool, density: f64, stl: Option<&str>, obj: Opt
     pellet_io::write_outputs(&exports)?;
     let report = summary(&file, density)?;
     let text = if as_json { serde_json::to_string_pretty(&report)? + "\n" } else { render_text(&file.pellet, &report) };
-    use std::io::Write;
-    std::io::stdout().lock().write_all(text.as_bytes())?;
+    pellet_cli::print_stdout(&text)?;
     Ok(Outcome::Success)
 }
 

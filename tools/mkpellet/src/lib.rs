@@ -226,12 +226,12 @@ impl Unit {
 pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let (shape, out) = match args.command {
         Command::Info { input, json, density, stl, obj } => {
-            pellet_cli::refuse_overwriting_inputs([&input], mesh_flags(stl.as_deref(), obj.as_deref()))?;
+            pellet_cli::refuse_clashing_outputs([&input], mesh_flags(stl.as_deref(), obj.as_deref()))?;
             return info::run(&input, json, density, stl.as_deref(), obj.as_deref());
         }
         Command::Import { input, unit, output, stl, obj } => {
             let outputs = std::iter::once(("-o".to_string(), output.clone()));
-            pellet_cli::refuse_overwriting_inputs([&input], outputs.chain(mesh_flags(stl.as_deref(), obj.as_deref())))?;
+            pellet_cli::refuse_clashing_outputs([&input], outputs.chain(mesh_flags(stl.as_deref(), obj.as_deref())))?;
             let pellet = import(&input, unit)?;
             write_pellet(&pellet, &output, stl.as_deref(), obj.as_deref())?;
             return Ok(Outcome::Success);
@@ -272,6 +272,11 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             out,
         ),
     };
+    let outputs = std::iter::once(("-o".to_string(), out.output.clone()));
+    pellet_cli::refuse_clashing_outputs(
+        [] as [&str; 0],
+        outputs.chain(mesh_flags(out.stl.as_deref(), out.obj.as_deref())),
+    )?;
     let resolution = Resolution { level: out.level.unwrap_or(Resolution::DEFAULT_LEVEL), faces: out.faces };
     let pellet = Pellet::build(shape, resolution)?;
     write_pellet(&pellet, &out.output, out.stl.as_deref(), out.obj.as_deref())?;
@@ -318,9 +323,6 @@ fn write_pellet(pellet: &Pellet, output: &str, stl: Option<&str>, obj: Option<&s
         what: "pellet file".into(),
     }];
     outputs.extend(mesh_exports(pellet, stl, obj)?);
-    if outputs.iter().filter(|o| o.path == "-").count() > 1 {
-        bail!("only one output can go to stdout (-); give the pellet file a name with -o");
-    }
     pellet_io::write_outputs(&outputs)?;
     for note in &pellet.notes {
         eprintln!("mkpellet: note: {note}");

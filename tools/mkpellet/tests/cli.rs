@@ -141,3 +141,61 @@ fn info_rejects_files_that_are_not_pellets() {
     assert_error(&mkpellet(dir.path(), &["info", "future.pellet"]), "format version 99");
     assert_error(&mkpellet(dir.path(), &["info", "nope.pellet"]), "nope.pellet");
 }
+
+/// Runs mkpellet with its stdout closed, as `mkpellet … >&-` does; `Stdio::null()` would be
+/// an open stdout.
+fn mkpellet_stdout_closed(dir: &Path, args: &[&str]) -> Output {
+    Command::new("sh")
+        .args(["-c", r#""$0" "$@" >&-"#, env!("CARGO_BIN_EXE_mkpellet")])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run mkpellet through sh")
+}
+
+#[test]
+fn two_outputs_naming_one_file_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_eq!(
+        mkpellet(dir.path(), &["sphere", "--diameter", "10", "-o", "in.pellet", "--stl", "in.stl"]).status.code(),
+        Some(0)
+    );
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    std::os::unix::fs::symlink("in.stl", dir.path().join("link.stl")).unwrap();
+    let before = files_in(dir.path());
+    let sphere = ["sphere", "--diameter", "10"];
+    let cases: &[(&[&str], &[&str], &str)] = &[
+        (
+            &sphere,
+            &["-o", "s.pellet", "--stl", "s.pellet"],
+            "-o and --stl both name s.pellet; give each output its own file",
+        ),
+        (&sphere, &["-o", "s.pellet", "--obj", "./s.pellet"], "-o s.pellet and --obj ./s.pellet are the same file"),
+        (&sphere, &["-o", "s.pellet", "--stl", "sub/../x", "--obj", "x"], "--stl sub/../x and --obj x"),
+        (&sphere, &["--stl", "-"], "-o and --stl both name - (stdout)"),
+        (&["import", "in.stl", "-o", "x"], &["--obj", "x"], "-o and --obj both name x"),
+        (&["info", "in.pellet"], &["--stl", "x", "--obj", "x"], "--stl and --obj both name x"),
+        (&["info", "in.pellet"], &["--stl", "in.stl", "--obj", "link.stl"], "--stl in.stl and --obj link.stl"),
+    ];
+    for (command, flags, needle) in cases {
+        let args: Vec<&str> = command.iter().chain(flags.iter()).copied().collect();
+        let out = mkpellet(dir.path(), &args);
+        assert_error(&out, needle);
+        assert!(out.stdout.is_empty(), "{args:?}: something was written to stdout");
+        assert_eq!(files_in(dir.path()), before, "{args:?}");
+    }
+}
+
+#[test]
+fn a_closed_stdout_is_an_error_not_a_silent_success() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = mkpellet_stdout_closed(dir.path(), &["sphere", "--diameter", "10", "--stl", "s.stl"]);
+    assert_error(&out, "cannot write to standard output: it is closed");
+    assert!(files_in(dir.path()).is_empty(), "the --stl file was written without the pellet file");
+    assert_eq!(
+        mkpellet_stdout_closed(dir.path(), &["sphere", "--diameter", "10", "-o", "s.pellet"]).status.code(),
+        Some(0)
+    );
+    assert_error(&mkpellet_stdout_closed(dir.path(), &["info", "s.pellet"]), "standard output: it is closed");
+    assert_error(&mkpellet_stdout_closed(dir.path(), &["--help"]), "standard output: it is closed");
+}

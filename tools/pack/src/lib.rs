@@ -285,13 +285,22 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         bail!("pack writes its trajectory to a file (it is renamed into place when complete); give -o FILE");
     }
     // The run writes <output>.part, .resume and .lock beside the output, and --park a copy.
-    let written =
-        ["", ".part", ".resume", ".lock"].into_iter().map(|suffix| ("-o".to_string(), format!("{output}{suffix}")));
+    let written = [
+        ("", "-o"),
+        (".part", "-o (its partial run)"),
+        (".resume", "-o (its resume file)"),
+        (".lock", "-o (its lock)"),
+    ]
+    .into_iter()
+    .map(|(suffix, flag)| (flag.to_string(), format!("{output}{suffix}")));
     let parked = args.park.iter().map(|p| ("--park".to_string(), p.clone()));
-    pellet_cli::refuse_overwriting_inputs(args.case.iter().chain([&config.pellet]), written.chain(parked.clone()))?;
+    pellet_cli::refuse_clashing_outputs(args.case.iter().chain([&config.pellet]), written.chain(parked.clone()))?;
     // --park reads the partial run it copies.
     let runs = ["", ".part", ".resume"].map(|suffix| format!("{output}{suffix}"));
     pellet_cli::refuse_overwriting_inputs(&runs, parked)?;
+    // The run ends by printing where it settled (or where it parked the run): with stdout
+    // closed that line would be lost, so refuse before the run rather than after it.
+    pellet_io::require_stdout()?;
     let pellet_bytes = pellet_io::read_input(&config.pellet)?;
     let pellet = pellet_io::decode_pellet(&pellet_bytes, &config.pellet)?.pellet;
 

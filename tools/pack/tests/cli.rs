@@ -437,3 +437,37 @@ fn a_second_pack_on_the_same_output_is_refused() {
     assert!(read(d, "o.mcap").checkpoint.is_some());
     assert!(!d.join("o.mcap.lock").exists() && !d.join("o.mcap.part").exists());
 }
+
+#[test]
+fn the_output_and_park_naming_one_file_are_refused_before_any_work() {
+    let dir = setup();
+    for park in ["x.mcap", "./x.mcap", "x.mcap.part"] {
+        let out = pack(
+            dir.path(),
+            &["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "3", "-o", "x.mcap", "--park", park],
+        );
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{park}: {err}");
+        assert!(err.starts_with("pack: error: -o ") && err.contains("give each output its own file"), "{err}");
+        assert!(err.contains("--park"), "{err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(!dir.path().join("x.mcap").exists());
+    }
+}
+
+#[test]
+fn a_closed_stdout_is_refused_before_the_run() {
+    let dir = setup();
+    // `>&-` closes stdout; `Stdio::null()` would be an open one.
+    let out = Command::new("sh")
+        .args(["-c", r#""$0" "$@" >&-"#, env!("CARGO_BIN_EXE_pack")])
+        .args(SHORT)
+        .args(["-o", "x.mcap"])
+        .current_dir(dir.path())
+        .output()
+        .expect("run pack through sh");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim_end(), "pack: error: cannot write to standard output: it is closed; redirect it to a file (or to /dev/null to discard the output)");
+    assert!(!dir.path().join("x.mcap").exists());
+}

@@ -68,7 +68,7 @@ pub struct Args {
 /// Runs `settle-check`.
 pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let outputs = [("-o", &args.output), ("--csv", &args.csv)];
-    pellet_cli::refuse_overwriting_inputs(
+    pellet_cli::refuse_clashing_outputs(
         [&args.input],
         outputs.iter().filter_map(|(f, p)| p.as_ref().map(|p| (f.to_string(), p.clone()))),
     )?;

@@ -208,3 +208,59 @@ fn bad_input_is_a_one_line_error_with_exit_2() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--settle-window must be"));
     assert!(!dir.path().join("x.packing").exists());
 }
+
+/// Runs settle-check with its stdout closed, as `settle-check … >&-` does; `Stdio::null()`
+/// would be an open stdout.
+fn settle_check_stdout_closed(dir: &Path, args: &[&str]) -> Output {
+    Command::new("sh")
+        .args(["-c", r#""$0" "$@" >&-"#, env!("CARGO_BIN_EXE_settle-check")])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run settle-check through sh")
+}
+
+#[track_caller]
+fn assert_one_line_error(out: &Output, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.starts_with("settle-check: error: "), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    for needle in needles {
+        assert!(err.contains(needle), "stderr lacks {needle:?}: {err}");
+    }
+}
+
+#[test]
+fn two_outputs_naming_one_file_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    write_trajectory(&dir.path().join("bed.mcap"), Some(0.4));
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    std::os::unix::fs::symlink("x", dir.path().join("link")).unwrap();
+    for (o, csv) in [("x", "x"), ("x", "./x"), ("sub/../x", "x"), ("x", "link"), ("-", "-")] {
+        let out = settle_check(dir.path(), &["bed.mcap", "-o", o, "--csv", csv]);
+        assert_one_line_error(&out, &["-o", "--csv", "give each output its own file"]);
+        assert!(out.stdout.is_empty(), "{o} {csv}: something was written to stdout");
+        assert!(!dir.path().join("x").exists(), "{o} {csv}: x was written");
+    }
+    let out = settle_check(dir.path(), &["bed.mcap", "-o", "x", "--csv", "x"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("-o and --csv both name x; give each output its own file"));
+}
+
+#[test]
+fn a_closed_stdout_is_an_error_not_a_silent_success() {
+    let dir = tempfile::tempdir().unwrap();
+    write_trajectory(&dir.path().join("bed.mcap"), Some(0.4));
+    for args in [&["bed.mcap", "--csv", "-"][..], &["bed.mcap"]] {
+        let out = settle_check_stdout_closed(dir.path(), args);
+        assert_one_line_error(&out, &["cannot write to standard output: it is closed"]);
+    }
+    // Discarding stdout is not closing it.
+    let status = Command::new(env!("CARGO_BIN_EXE_settle-check"))
+        .args(["bed.mcap", "--csv", "-"])
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::null())
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(0));
+}

@@ -132,7 +132,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let outputs = std::iter::once(("-o".to_string(), args.output.clone()))
         .chain(singles.iter().filter_map(|(f, p)| p.as_ref().map(|p| (f.to_string(), p.clone()))))
         .chain(args.plot.iter().map(|p| ("--plot".to_string(), p.clone())));
-    pellet_cli::refuse_overwriting_inputs(inputs, outputs)?;
+    pellet_cli::refuse_clashing_outputs(inputs, outputs)?;
     let beds = read_beds(&args)?;
     let m = measure(&args, beds)?;
     let mut outputs = vec![OutputFile {
@@ -157,9 +157,6 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if let Some(path) = &args.spread {
         let bytes = output::spread_csv(&m).into_bytes();
         outputs.push(OutputFile { path: path.clone(), bytes, binary: false, what: "spread CSV".into() });
-    }
-    if outputs.iter().filter(|o| o.path == "-").count() > 1 {
-        bail!("only one output can go to stdout (-); give the others file names");
     }
     pellet_io::write_outputs(&outputs)?;
     for path in &args.plot {

@@ -262,3 +262,57 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
     assert_ok(&help);
     assert!(String::from_utf8_lossy(&help.stdout).contains("r_mm,wall_distance_mm"));
 }
+
+/// Runs voidprof with its stdout closed, as `voidprof … >&-` does; `Stdio::null()` would be
+/// an open stdout.
+fn voidprof_stdout_closed(dir: &Path, args: &[&str]) -> Output {
+    Command::new("sh")
+        .args(["-c", r#""$0" "$@" >&-"#, env!("CARGO_BIN_EXE_voidprof")])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run voidprof through sh")
+}
+
+#[test]
+fn two_outputs_naming_one_file_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let bed = simple_cubic(&sphere(), 40.0 * MM, 10.0 * MM, 3);
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    std::fs::write(dir.path().join("old.csv"), b"old").unwrap();
+    std::os::unix::fs::symlink("old.csv", dir.path().join("link.csv")).unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["-o", "x", "--axial", "x"], "-o and --axial both name x; give each output its own file"),
+        (&["-o", "x", "--summary", "./x"], "-o x and --summary ./x are the same file"),
+        (&["-o", "p.csv", "--axial", "sub/../x", "--spread", "x"], "--axial sub/../x and --spread x"),
+        (&["-o", "p.csv", "--spread", "link.csv", "--summary", "old.csv"], "--summary old.csv and --spread link.csv"),
+        (&["--axial", "-"], "-o and --axial both name - (stdout)"),
+        (&["-o", "p.csv", "--plot", "a.svg", "--plot", "./a.svg"], "--plot a.svg and --plot ./a.svg"),
+    ];
+    for (flags, needle) in cases {
+        let args: Vec<&str> = ["bed.packing", "--window", "0,20"].iter().chain(flags.iter()).copied().collect();
+        let out = voidprof(dir.path(), &args, None);
+        assert_error(&out, needle);
+        assert!(out.stdout.is_empty(), "{flags:?}: something was written to stdout");
+        for name in ["x", "p.csv", "a.svg"] {
+            assert!(!dir.path().join(name).exists(), "{flags:?}: {name} was written");
+        }
+        assert_eq!(std::fs::read(dir.path().join("old.csv")).unwrap(), b"old");
+    }
+}
+
+#[test]
+fn a_closed_stdout_is_an_error_not_a_silent_success() {
+    let dir = tempfile::tempdir().unwrap();
+    let bed = simple_cubic(&sphere(), 40.0 * MM, 10.0 * MM, 3);
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
+    let out = voidprof_stdout_closed(dir.path(), &["bed.packing", "--window", "0,20", "--summary", "s.json"]);
+    assert_error(&out, "cannot write to standard output: it is closed");
+    // Nothing is written when one of the outputs cannot be.
+    assert!(!dir.path().join("s.json").exists());
+    // With the profile in a file, stdout is not needed.
+    let out = voidprof_stdout_closed(dir.path(), &["bed.packing", "--window", "0,20", "-o", "p.csv"]);
+    assert_ok(&out);
+    assert!(dir.path().join("p.csv").exists());
+}
