@@ -294,10 +294,11 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     .into_iter()
     .map(|(suffix, flag)| (flag.to_string(), format!("{output}{suffix}")));
     let parked = args.park.iter().map(|p| ("--park".to_string(), p.clone()));
-    pellet_cli::refuse_clashing_outputs(args.case.iter().chain([&config.pellet]), written.chain(parked.clone()))?;
-    // --park reads the partial run it copies.
+    // --park reads the partial run it copies: writing over it is destroying an input, which
+    // is the first thing to say.
     let runs = ["", ".part", ".resume"].map(|suffix| format!("{output}{suffix}"));
-    pellet_cli::refuse_overwriting_inputs(&runs, parked)?;
+    pellet_cli::refuse_overwriting_inputs(&runs, parked.clone())?;
+    pellet_cli::refuse_clashing_outputs(args.case.iter().chain([&config.pellet]), written.chain(parked))?;
     // The run ends by printing where it settled (or where it parked the run): with stdout
     // closed that line would be lost, so refuse before the run rather than after it.
     pellet_io::require_stdout()?;
