@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # The steppers side by side on pack's reference beds, with the peer yardsticks where they are
 # present (../shared/peers/run.sh: LIGGGHTS, rapier), all in one run on one machine:
-#   bash pipelines/bench-steppers.sh [BIN] [CASES]
+#   [STEPPERS="acceleration velocity"] bash pipelines/bench-steppers.sh [BIN] [CASES]
 # BIN: the release binaries (default target/release). CASES (default "sph690 cyl40"):
 #   sph690  690 spheres of 10 mm, D = 79.9 mm, batch (yardstick: liggghts-690)
 #   cyl40   40 cylinders 10 x 10 mm, D = 40 mm, batch, seeds 1-3
 #   ring40  40 Raschig rings 10/6 x 10 mm, D = 40 mm, batch, seeds 1-3
+#   ring256 256 Raschig rings 10/6 x 10 mm, D = 60.18 mm, batch (yardstick: rapier-256-rings)
 #   cyl620  620 cylinders 10 x 10 mm, D = 91.58 mm, batch (yardstick: rapier-620; minutes)
 # Prints per run: case, stepper, seed, CPU s (user + system), settle time, porosity, the
 # CPU ratio to the yardstick when there is one, and for the velocity-level stepper the contact
@@ -14,6 +15,7 @@
 set -euo pipefail
 BIN=${1:-target/release}
 CASES=${2:-sph690 cyl40}
+STEPPERS=${STEPPERS:-acceleration velocity}
 here=$(cd "$(dirname "$0")" && pwd)
 peers="$here/../../shared/peers/run.sh"
 work=$(mktemp -d)
@@ -53,14 +55,17 @@ for c in $CASES; do
   case $c in
     sph690)
       y=$(yardstick liggghts-690); [ -n "$y" ] && echo "yardstick liggghts-690 cpu_s $y"
-      for s in acceleration velocity; do one sph690 s.pellet 79.9 690 1 $s 0,100 "$y"; done ;;
+      for s in $STEPPERS; do one sph690 s.pellet 79.9 690 1 $s 0,100 "$y"; done ;;
     cyl40)
-      for seed in 1 2 3; do for s in acceleration velocity; do one cyl40 c.pellet 40 40 $seed $s 0,40 ""; done; done ;;
+      for seed in 1 2 3; do for s in $STEPPERS; do one cyl40 c.pellet 40 40 $seed $s 0,40 ""; done; done ;;
     ring40)
-      for seed in 1 2 3; do for s in acceleration velocity; do one ring40 r.pellet 40 40 $seed $s 0,40 ""; done; done ;;
+      for seed in 1 2 3; do for s in $STEPPERS; do one ring40 r.pellet 40 40 $seed $s 0,40 ""; done; done ;;
+    ring256)
+      y=$(yardstick rapier-256-rings); [ -n "$y" ] && echo "yardstick rapier-256-rings cpu_s $y"
+      for s in $STEPPERS; do one ring256 r.pellet 60.18 256 1 $s 0,100 "$y"; done ;;
     cyl620)
       y=$(yardstick rapier-620); [ -n "$y" ] && echo "yardstick rapier-620 cpu_s $y"
-      for s in acceleration velocity; do one cyl620 c.pellet 91.58 620 1 $s 0,100 "$y"; done ;;
-    *) echo "bench-steppers: unknown case $c (sph690, cyl40, ring40, cyl620)" >&2; exit 2 ;;
+      for s in $STEPPERS; do one cyl620 c.pellet 91.58 620 1 $s 0,100 "$y"; done ;;
+    *) echo "bench-steppers: unknown case $c (sph690, cyl40, ring40, ring256, cyl620)" >&2; exit 2 ;;
   esac
 done
