@@ -8,7 +8,8 @@
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
 //! run, `STEP` the engine call's step (s, default 1/40); `VELOCITY` runs the velocity-level stepper; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g) change one
 //! setting, and `CONTACTS` lists the fastest pellet's contacts (or pellet `BODY`'s, whose motion is
-//! printed too) after every step; `PAIRS` counts contact points per pair. The tube and
+//! printed too) after every step; `PAIRS` counts contact points per pair; `CHECKPOINT` goes on
+//! from the trajectory's last checkpoint (velocities and warm starts included) instead. The tube and
 //! pellet are the trajectory's; materials and engine parameters are pack's defaults.
 
 mod common;
@@ -72,11 +73,21 @@ fn restart_from_a_frame() {
         frame.positions.len(),
         tube.diameter * 1e3
     );
-    let start: Vec<Vec3> = world.bodies().iter().map(|b| b.position).collect();
     let mut pipeline = Pipeline::new();
+    if std::env::var("CHECKPOINT").is_ok() {
+        // The run's last checkpoint instead: velocities, time and warm starts as the run had
+        // them, so that the steps are the run's own.
+        let bytes = traj.checkpoint.as_ref().expect("the trajectory has a checkpoint");
+        let c = pellet_pack::Checkpoint::decode(bytes, &path).expect("a readable checkpoint");
+        world.restore(c.world).expect("the checkpoint fits the world");
+        pipeline = Pipeline::with_warm_state(&c.warm, &c.impulses);
+        println!("continuing from its last checkpoint at t = {:.4} s", world.time());
+    }
+    let start: Vec<Vec3> = world.bodies().iter().map(|b| b.position).collect();
     let step = env_f64("STEP", 1.0 / 40.0);
     let clock = std::time::Instant::now();
-    while world.time() < secs - 1e-9 {
+    let end = world.time() + secs;
+    while world.time() < end - 1e-9 {
         let e0 = world.energy().total();
         let r = world.step(step, &mut pipeline).unwrap();
         let (de, l) = (world.energy().total() - e0, r.energy);
