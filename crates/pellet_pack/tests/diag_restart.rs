@@ -197,7 +197,7 @@ fn restart_from_a_frame() {
             }
         }
         println!(
-            "t {:.3} KE {:.2e} J vmax {:.2e} m/s moved {:.2e} m | substeps {} it/substep {:.0} unconverged {} largest {} residual {:.2e} loaded {} warm {} pen {:.2e} wall {:.1} s",
+            "t {:.3} KE {:.2e} J vmax {:.2e} m/s moved {:.2e} m | substeps {} it/substep {:.0} unconverged {} largest {} residual {:.2e} loaded {} warm {} pen {:.2e} wall {:.1} s (narrow phase {:.2}, collisions {:.2}, solve {:.2}, projection {:.2} s)",
             world.time(),
             world.kinetic_energy(),
             vmax,
@@ -210,7 +210,11 @@ fn restart_from_a_frame() {
             r.loaded_contacts,
             r.loaded_warm,
             r.max_penetration,
-            clock.elapsed().as_secs_f64()
+            clock.elapsed().as_secs_f64(),
+            r.wall_seconds[0],
+            r.wall_seconds[1],
+            r.wall_seconds[2],
+            r.wall_seconds[3]
         );
     }
 }
