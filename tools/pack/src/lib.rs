@@ -284,6 +284,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if output == "-" {
         bail!("pack writes its trajectory to a file (it is renamed into place when complete); give -o FILE");
     }
+    // Checked before the run, not found out after simulating the whole bed.
+    check_output_path(&output)?;
     // The run writes <output>.part, .resume and .lock beside the output, and --park a copy.
     let written = [
         ("", "-o"),
@@ -528,4 +530,25 @@ impl RunSink for McapSink {
     fn checkpoint(&mut self, time_s: f64, bytes: &[u8]) -> Result<(), String> {
         self.writer.write_checkpoint(time_s, bytes).map_err(|e| e.to_string())
     }
+}
+
+/// The trajectory's path must name a file in a directory that exists: an empty name, a
+/// directory, or a missing or non-directory parent would only fail when the finished run is
+/// renamed into place.
+fn check_output_path(output: &str) -> anyhow::Result<()> {
+    if output.is_empty() {
+        bail!("-o is empty; give the trajectory a file name, e.g. -o bed.mcap");
+    }
+    let path = Path::new(output);
+    if path.is_dir() {
+        bail!("-o {output} is a directory; give a file name, e.g. -o {}", path.join("bed.mcap").display());
+    }
+    let parent = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !parent.is_dir() {
+        bail!("-o {output}: the directory {} does not exist; create it first", parent.display());
+    }
+    Ok(())
 }

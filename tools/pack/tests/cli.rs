@@ -200,6 +200,27 @@ fn the_batch_scheme_releases_every_pellet_at_once_and_settles() {
     assert!(!dir.path().join("f.mcap").exists());
 }
 
+/// An output that cannot be written is refused before the run, not after simulating the whole
+/// bed: an empty name, a directory, a missing directory. Nothing is left behind.
+#[test]
+fn an_unwritable_output_is_refused_before_the_run() {
+    let dir = setup();
+    std::fs::create_dir(dir.path().join("beds")).unwrap();
+    for (output, needle) in [("", "-o is empty"), ("beds", "is a directory"), ("nowhere/bed.mcap", "does not exist")] {
+        let args = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "200", "-o", output];
+        let started = std::time::Instant::now();
+        let out = pack(dir.path(), &args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "-o {output:?}: {err}");
+        assert!(err.contains(needle), "-o {output:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(started.elapsed().as_secs_f64() < 5.0, "-o {output:?} ran the bed first");
+    }
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(left.len(), 2, "only the pellet and the directory: {left:?}");
+    assert_eq!(std::fs::read_dir(dir.path().join("beds")).unwrap().count(), 0);
+}
+
 /// The velocity-level stepper's summary says how its contact solve fared at the end of the run:
 /// a small bed at rest has every loaded contact warm started and every solve converged.
 #[test]
