@@ -13,6 +13,10 @@ use crate::driver::STEP_S;
 use crate::loading::LoadingScheme;
 pub use pellet_sim::Stepper;
 
+/// Most pellets a bed may hold: checked before anything is allocated for them (a million
+/// pellets take a few GB with their contacts; four billion aborted the allocator).
+pub const MAX_COUNT: u32 = 1_000_000;
+
 /// The stepper of a run that does not choose one.
 pub const DEFAULT_STEPPER: Stepper = Stepper::Acceleration;
 use crate::ConfigError;
@@ -314,6 +318,11 @@ impl PackConfig {
         let amount = match (o.count, o.fill_height) {
             (Some(_), Some(_)) => return Err(ConfigError("give either --count or --fill-height, not both".into())),
             (Some(0), None) => return Err(ConfigError("--count must be at least 1".into())),
+            (Some(n), None) if n > MAX_COUNT => {
+                return Err(ConfigError(format!(
+                    "--count must be in [1, {MAX_COUNT}] (got {n}): a bed of more pellets does not fit in memory here"
+                )))
+            }
             (Some(n), None) => Amount::Count(n),
             (None, Some(h)) => Amount::FillHeight(check("fill-height", h, 0.0, f64::INFINITY, true, " mm")? * mm),
             (None, None) => return Err(ConfigError("give --count N or --fill-height MM".into())),
@@ -475,6 +484,7 @@ mod tests {
             (PackOptions { density: Some(f64::NAN), ..base() }, "--density"),
             (PackOptions { fill_height: Some(100.0), ..base() }, "either --count or --fill-height"),
             (PackOptions { count: None, ..base() }, "give --count N or --fill-height MM"),
+            (PackOptions { count: Some(4_000_000_000), ..base() }, "--count must be in [1, 1000000]"),
             (PackOptions { pellet: None, ..base() }, "--pellet is required"),
             (PackOptions { resting_band: Some(0.0), ..base() }, "--resting-band must be in [0.0001, 0.1] m/s"),
         ] {

@@ -91,7 +91,7 @@ pub struct Args {
     /// The tube as its own closed STL solid (circumscribed polygon, floor to top of the range).
     #[arg(long, value_name = "FILE")]
     pub tube_stl: Option<String>,
-    /// Sides of the tube's polygon.
+    /// Sides of the tube's polygon, 8 to 65536.
     #[arg(long, default_value_t = 256)]
     pub tube_segments: usize,
     /// The pellets' surfaces as VTK PolyData (.vtp) with a pellet_id cell field.
@@ -219,6 +219,10 @@ pub struct Exported {
 }
 
 /// Runs `bedexport`.
+/// Most sides of the tube's polygon: far finer than any mesher needs, and checked before the
+/// polygon is allocated (4294967295 sides aborted the allocator).
+const MAX_TUBE_SEGMENTS: usize = 65_536;
+
 pub fn run(args: Args) -> anyhow::Result<Outcome> {
     let paths = args.output_paths();
     if let Some(dir) = &args.openfoam {
@@ -245,8 +249,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if args.solids == Solids::PerPellet && !args.ascii {
         bail!("--solids per-pellet needs --ascii: binary STL has no named solids");
     }
-    if args.tube_segments < 8 {
-        bail!("--tube-segments must be at least 8 (got {})", args.tube_segments);
+    if !(8..=MAX_TUBE_SEGMENTS).contains(&args.tube_segments) {
+        bail!("--tube-segments must be in [8, {MAX_TUBE_SEGMENTS}] (got {})", args.tube_segments);
     }
     let file = pellet_io::decode_packing(&pellet_io::read_input(&args.packing)?, &args.packing)?;
     let bed = file.bed;

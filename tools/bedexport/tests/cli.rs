@@ -397,6 +397,10 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
         (&["bed.packing", "--stl", "o.stl", "--bridge-gap", "-1"], "--bridge-gap must be a finite number > 0"),
         (&["bed.packing", "--stl", "-", "--csv", "-"], "--stl and --csv both name - (stdout)"),
         (&["bed.packing", "--voxels", "-"], "--voxels needs a file name"),
+        (
+            &["bed.packing", "--tube-stl", "t.stl", "--tube-segments", "4294967295"],
+            "--tube-segments must be in [8, 65536]",
+        ),
     ];
     for (args, needle) in cases {
         let out = bedexport(dir.path(), args, None);
