@@ -57,7 +57,7 @@ pub struct Args {
     /// Tube inner diameter (mm).
     #[arg(long, value_name = "MM")]
     tube_diameter: Option<f64>,
-    /// Number of pellets to load.
+    /// Number of pellets to load, 1 to 1000000.
     #[arg(long, value_name = "N")]
     count: Option<u32>,
     /// Or: load until the bed surface reaches this height (mm).
