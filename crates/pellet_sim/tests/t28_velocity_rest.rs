@@ -29,20 +29,6 @@ fn hold(w: &mut pellet_sim::World, seconds: f64) -> Rest {
     let weight: Vec<f64> = w.bodies().iter().map(|b| b.mass * 9.81).collect();
     for step in 0..(seconds * 40.0).round() as usize {
         let r = w.step(1.0 / 40.0, &mut p).unwrap();
-        if std::env::var("T28_TRACE").is_ok() {
-            let v = w.bodies().iter().map(|b| b.velocity().norm()).fold(0.0, f64::max);
-            println!(
-                "t {:.3} steps {} sweeps {} residual {:.2e} unconverged {} loaded {} warm {} |v| {v:.2e} pen {:.2e}",
-                w.time(),
-                r.substeps,
-                r.solver_iterations,
-                r.solver_residual,
-                r.unconverged_islands,
-                r.loaded_contacts,
-                r.loaded_warm,
-                r.max_penetration
-            );
-        }
         // The first step starts cold.
         if step > 0 {
             out.lost_keys += (r.loaded_contacts - r.loaded_warm) as usize;

@@ -64,10 +64,10 @@ pub(crate) fn lateral_hit(a: &Pellet<'_>, b: &Pellet<'_>) -> Option<Hit> {
     let (pa, pb) = (xa + u * s, xb + v * t);
     let between = pa - pb;
     let distance = between.norm();
-    let gap = distance - ra - rb;
     if distance == 0.0 {
         return None;
     }
+    let gap = distance - ra - rb;
     let normal = between / distance;
     let (pa, pb) = (pa - normal * ra, pb + normal * rb);
     // Each point must meet the other pellet's side there: not a ring's hole (linked rings,

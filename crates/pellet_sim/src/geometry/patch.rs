@@ -168,8 +168,9 @@ pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real, kept: 
             best(f, &|_| true)
         }
     };
-    // The deepest point, or a kept point within `KEEP_DEPTH` of its depth.
-    let depth_margin = KEEP_DEPTH * band / NEAR_BAND;
+    // The deepest point, or a kept point within `KEEP_DEPTH` bounding radii of its depth (the
+    // band is `NEAR_BAND` of the smaller bounding radius).
+    let depth_margin = KEEP_DEPTH * (band / NEAR_BAND);
     let i0 = (0..patch.len())
         .filter(|&k| was_kept(k) && gap(k) <= g_min + depth_margin)
         .min_by(|&i, &j| gap(i).total_cmp(&gap(j)).then(i.cmp(&j)))
