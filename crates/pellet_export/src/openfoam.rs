@@ -208,10 +208,13 @@ mergeTolerance 1e-6;\n",
     s
 }
 
-/// `system/meshQualityDict`: the limits OpenFOAM's own caseDicts use.
+/// `system/meshQualityDict`: the limits OpenFOAM's own caseDicts use, except
+/// that boundary faces are held to checkMesh's skewness limit (4) rather than
+/// the caseDicts' 20, so that snappyHexMesh never leaves a face checkMesh
+/// fails (a pellet's boundary face at skewness 4.65 did, on a cylinder bed).
 pub fn mesh_quality_dict() -> String {
     header("dictionary", "meshQualityDict")
-        + "maxNonOrtho 65;\nmaxBoundarySkewness 20;\nmaxInternalSkewness 4;\nmaxConcave 80;\n\
+        + "maxNonOrtho 65;\nmaxBoundarySkewness 4;\nmaxInternalSkewness 4;\nmaxConcave 80;\n\
            minVol 1e-13;\nminTetQuality 1e-15;\nminArea -1;\nminTwist 0.02;\nminDeterminant 0.001;\n\
            minFaceWeight 0.05;\nminVolRatio 0.01;\nminTriangleTwist -1;\nnSmoothScale 4;\nerrorReduction 0.75;\n\
            relaxed\n{\n    maxNonOrtho 75;\n}\n"
