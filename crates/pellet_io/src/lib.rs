@@ -103,8 +103,9 @@ pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELL
 pub use poses_csv::decode_poses_csv;
 pub use stdout::{require_stdout, stdout_closed};
 pub use trajectory::{
-    decode_message, encode_message, read_trajectory, EnergyRecord, Frame, Trajectory, TrajectoryHeader,
-    TrajectoryWriter, CHECKPOINT_TOPIC, ENERGY_TOPIC, MESSAGE_ENCODING, POSES_TOPIC, RUN_METADATA, TRAJECTORY_PROFILE,
+    decode_message, encode_message, read_trajectory, read_trajectory_with, EnergyRecord, Frame, ReadOptions,
+    Trajectory, TrajectoryHeader, TrajectoryWriter, CHECKPOINT_TOPIC, ENERGY_TOPIC, MESSAGE_ENCODING, POSES_TOPIC,
+    RUN_METADATA, TRAJECTORY_PROFILE,
 };
 
 /// What can go wrong reading or writing packbed's files.
@@ -158,6 +159,17 @@ pub enum IoError {
         path: String,
         /// What is wrong.
         reason: String,
+    },
+    /// A trajectory that ends before its MCAP header is complete: a run killed as it began,
+    /// which recorded nothing.
+    #[error(
+        "{path}: truncated: the file ends within its MCAP header ({len} bytes), before any of the run was recorded; run `pack` again"
+    )]
+    CutInHeader {
+        /// The file involved.
+        path: String,
+        /// Its length (bytes).
+        len: usize,
     },
     /// Refused to write binary data to a terminal.
     #[error("refusing to write binary {what} to a terminal; give a file name with -o or redirect stdout")]

@@ -5,8 +5,11 @@
 //! before it decompresses it. A trajectory with one corrupt byte in a chunk then asked the
 //! allocator for ~5e17 bytes and the process aborted or panicked ("capacity overflow") instead
 //! of reporting a corrupt file. This drives the same sans-io reader with a limit.
+//!
+//! [`Salvage`] reads past a damaged record, for `pack --resume`: a run whose file took one bad
+//! byte goes on from its last checkpoint that reads instead of being lost.
 
-use mcap::records::Record;
+use mcap::records::{op, Record};
 use mcap::sans_io::{LinearReadEvent, LinearReader, LinearReaderOptions};
 use mcap::McapResult;
 
@@ -32,6 +35,17 @@ impl<'a> Records<'a> {
         let options = LinearReaderOptions::default()
             .with_skip_end_magic(true)
             .with_record_length_limit(record_length_limit(bytes.len()));
+        Records { rest: bytes, reader: LinearReader::new_with_options(options), failed: false }
+    }
+
+    /// A reader over one complete top-level record (`bytes` from its opcode on), chunk CRCs
+    /// checked before any of its records is given.
+    fn record(bytes: &'a [u8], limit: usize) -> Self {
+        let options = LinearReaderOptions::default()
+            .with_skip_start_magic(true)
+            .with_skip_end_magic(true)
+            .with_prevalidate_chunk_crcs(true)
+            .with_record_length_limit(limit);
         Records { rest: bytes, reader: LinearReader::new_with_options(options), failed: false }
     }
 }
@@ -63,6 +77,133 @@ impl<'a> Iterator for Records<'a> {
             }
         }
         None
+    }
+}
+
+/// A stretch of a file that [`Salvage`] skipped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skipped {
+    /// Offset of its first byte.
+    pub offset: usize,
+    /// Its length (bytes).
+    pub len: usize,
+    /// What was wrong at its start.
+    pub reason: String,
+}
+
+/// Iterates over the records of `bytes` as [`Records`] does, but goes on past damage: a record
+/// that does not read (a chunk that fails its CRC check, say) is skipped, and reading goes on at
+/// the next chunk that reads whole, its CRC checked; each skipped stretch is in `skipped`. A tail
+/// that is no complete record and is followed by no such chunk (a killed run's cut) ends it, the
+/// reason in `cut`.
+pub struct Salvage<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+    limit: usize,
+    pending: std::vec::IntoIter<Record<'static>>,
+    /// The stretches skipped so far.
+    pub skipped: Vec<Skipped>,
+    /// Why reading stopped before the end of the file.
+    pub cut: Option<String>,
+}
+
+/// Why a record did not read: `Cut` if it runs past the end of the file.
+enum Failure {
+    Cut(String),
+    Bad(String),
+}
+
+impl<'a> Salvage<'a> {
+    /// A reader over the whole file (which starts with the MCAP magic).
+    pub fn new(bytes: &'a [u8]) -> Self {
+        Salvage {
+            bytes,
+            pos: mcap::MAGIC.len().min(bytes.len()),
+            limit: record_length_limit(bytes.len()),
+            pending: Vec::new().into_iter(),
+            skipped: Vec::new(),
+            cut: None,
+        }
+    }
+
+    /// The records of the complete record at `pos`, and where the next one starts.
+    fn record_at(&self, pos: usize, resync: bool) -> Result<(Vec<Record<'static>>, usize), Failure> {
+        let rest = &self.bytes[pos..];
+        let Some((&opcode, len)) = rest.split_first().filter(|_| rest.len() >= 9) else {
+            return Err(Failure::Cut("the file ends within a record's header".into()));
+        };
+        let len = u64::from_le_bytes(len[..8].try_into().expect("8 bytes"));
+        let Some(end) = usize::try_from(len).ok().and_then(|l| l.checked_add(9)).filter(|&e| e <= rest.len()) else {
+            return Err(Failure::Cut(format!("a record of {len} bytes runs past the end of the file")));
+        };
+        let body = &rest[9..end];
+        let bad = |e: mcap::McapError| Failure::Bad(e.to_string());
+        if opcode != op::CHUNK {
+            return Ok((vec![mcap::parse_record(opcode, body).map_err(bad)?.into_owned()], pos + end));
+        }
+        let Record::Chunk { header, data } = mcap::parse_record(op::CHUNK, body).map_err(bad)? else {
+            unreachable!("a chunk opcode parses as a chunk");
+        };
+        // A length field that grew would pass the rest off as padding, swallowing later chunks.
+        let header_len = 40 + header.compression.len();
+        if body.len() != header_len + data.len() {
+            return Err(Failure::Bad("a chunk's length disagrees with its header".into()));
+        }
+        // A chunk found by searching must prove itself: a CRC, not just bytes that decompress.
+        if resync && header.uncompressed_crc == 0 {
+            return Err(Failure::Bad("a chunk without a CRC".into()));
+        }
+        let records = Records::record(&rest[..end], self.limit).collect::<Result<Vec<_>, _>>().map_err(bad)?;
+        Ok((records, pos + end))
+    }
+
+    /// The offset of the first chunk at or after `from` that reads whole.
+    fn next_sound_chunk(&self, from: usize) -> Option<usize> {
+        let mut at = from;
+        while let Some(i) = self.bytes.get(at..)?.iter().position(|&b| b == op::CHUNK) {
+            if self.record_at(at + i, true).is_ok() {
+                return Some(at + i);
+            }
+            at += i + 1;
+        }
+        None
+    }
+}
+
+impl Iterator for Salvage<'_> {
+    type Item = Record<'static>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        loop {
+            if let Some(record) = self.pending.next() {
+                return Some(record);
+            }
+            if self.pos >= self.bytes.len() {
+                return None;
+            }
+            match self.record_at(self.pos, false) {
+                Ok((records, next)) => {
+                    // The end magic follows the footer.
+                    let footer = records.iter().any(|r| matches!(r, Record::Footer(_)));
+                    self.pos = if footer { self.bytes.len() } else { next };
+                    self.pending = records.into_iter();
+                }
+                Err(failure) => {
+                    let next = self.next_sound_chunk(self.pos + 1);
+                    let (reason, cut) = match failure {
+                        Failure::Cut(r) => (r, next.is_none()),
+                        Failure::Bad(r) => (r, false),
+                    };
+                    if cut {
+                        self.cut = Some(reason);
+                    } else {
+                        let end = next.unwrap_or(self.bytes.len());
+                        self.skipped.push(Skipped { offset: self.pos, len: end - self.pos, reason });
+                    }
+                    self.pos = next.unwrap_or(self.bytes.len());
+                }
+            }
+        }
     }
 }
 

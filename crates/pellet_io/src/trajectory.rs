@@ -13,6 +13,9 @@ use crate::foxglove::{self, ViewerShape};
 use crate::pellet_file::Provenance;
 use crate::IoError;
 
+mod read;
+pub use read::{read_trajectory, read_trajectory_with, ReadOptions, Trajectory};
+
 /// MCAP header profile of packbed trajectories.
 pub const TRAJECTORY_PROFILE: &str = "packbed/1";
 /// Message encoding of packbed's channels: bincode 2, standard config, fixed-width LE integers.
@@ -418,112 +421,6 @@ struct TubeJson {
 
 fn tube_json(tube: &Tube) -> String {
     serde_json::to_string(&TubeJson { diameter_m: tube.diameter, lid_height_m: tube.lid_height }).unwrap_or_default()
-}
-
-/// A trajectory read back: the header records, every energy record, and
-/// every frame's time with where to find it.
-pub struct Trajectory {
-    /// The `packbed.run` metadata (tool, version, args, seed, units, config).
-    pub run: BTreeMap<String, String>,
-    /// The attached pellet files' bytes, by type index.
-    pub pellet_files: Vec<Vec<u8>>,
-    /// The tube.
-    pub tube: Option<Tube>,
-    /// Every energy record, in time order.
-    pub energy: Vec<EnergyRecord>,
-    /// Every pose frame, in time order.
-    pub frames: Vec<Frame>,
-    /// Why reading stopped early, for a truncated file (a killed run).
-    pub truncated: Option<String>,
-    /// The bytes of the last checkpoint (see [`TrajectoryWriter::write_checkpoint`]).
-    pub checkpoint: Option<Vec<u8>>,
-}
-
-/// Reads a whole trajectory from its bytes. A truncated file (a killed
-/// run) yields everything up to its last complete chunk, with
-/// `truncated` saying so; a file that is not MCAP at all is an error.
-pub fn read_trajectory(bytes: &[u8], path: &str) -> Result<Trajectory, IoError> {
-    use mcap::records::Record;
-    if bytes.len() < 8 || &bytes[..8] != mcap::MAGIC {
-        return Err(IoError::Corrupt {
-            path: path.into(),
-            reason: "not an MCAP file (bad magic); `pack` writes trajectories".into(),
-        });
-    }
-    // Not mcap's ChunkFlattener: it sets no bound on record lengths (`mcap_records`).
-    let reader = crate::mcap_records::Records::new(bytes);
-    let mut out = Trajectory {
-        run: BTreeMap::new(),
-        pellet_files: Vec::new(),
-        tube: None,
-        energy: Vec::new(),
-        frames: Vec::new(),
-        truncated: None,
-        checkpoint: None,
-    };
-    let mut topics: BTreeMap<u16, String> = BTreeMap::new();
-    let mut profile_ok = false;
-    let mut header_seen = false;
-    for record in reader {
-        let record = match record {
-            Ok(r) => r,
-            Err(e) => {
-                out.truncated = Some(e.to_string());
-                break;
-            }
-        };
-        match record {
-            Record::Header(h) => {
-                header_seen = true;
-                profile_ok = h.profile == TRAJECTORY_PROFILE;
-            }
-            Record::Metadata(m) if m.name == RUN_METADATA => out.run = m.metadata,
-            Record::Attachment { header, data, .. } => {
-                if header.name == TUBE_ATTACHMENT {
-                    out.tube = parse_tube(&data);
-                } else if let Some(i) = header.name.strip_prefix("pellet-").and_then(|s| s.strip_suffix(".pellet")) {
-                    let i: usize = i.parse().unwrap_or(usize::MAX);
-                    if i < 4096 {
-                        if out.pellet_files.len() <= i {
-                            out.pellet_files.resize(i + 1, Vec::new());
-                        }
-                        out.pellet_files[i] = data.into_owned();
-                    }
-                }
-            }
-            Record::Channel(c) => {
-                topics.insert(c.id, c.topic.clone());
-            }
-            Record::Message { header, data } => match topics.get(&header.channel_id).map(String::as_str) {
-                Some(POSES_TOPIC) => out.frames.push(decode(&data, path, "pose")?),
-                Some(ENERGY_TOPIC) => out.energy.push(decode(&data, path, "energy")?),
-                Some(CHECKPOINT_TOPIC) => out.checkpoint = Some(data.into_owned()),
-                _ => {}
-            },
-            _ => {}
-        }
-    }
-    if !header_seen && out.truncated.is_some() {
-        return Err(IoError::Corrupt {
-            path: path.into(),
-            reason: format!(
-                "truncated: the file ends within its MCAP header ({} bytes), before any of the run was recorded; run `pack` again",
-                bytes.len()
-            ),
-        });
-    }
-    if !profile_ok {
-        return Err(IoError::Corrupt {
-            path: path.into(),
-            reason: format!("not a packbed trajectory (MCAP profile is not {TRAJECTORY_PROFILE:?})"),
-        });
-    }
-    Ok(out)
-}
-
-fn parse_tube(data: &[u8]) -> Option<Tube> {
-    let t: TubeJson = serde_json::from_slice(data).ok()?;
-    Some(Tube { diameter: t.diameter_m, lid_height: t.lid_height_m })
 }
 
 #[cfg(test)]

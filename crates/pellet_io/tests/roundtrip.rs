@@ -177,3 +177,79 @@ fn a_changed_byte_fails_the_checksum_and_old_files_still_read() {
     future[8..12].copy_from_slice(&3u32.to_le_bytes());
     assert!(decode_pellet(&future, "new.pellet").unwrap_err().to_string().contains("format version 3"));
 }
+
+/// Offsets of the top-level chunk records of an MCAP file (after its 8-byte magic).
+fn chunk_offsets(bytes: &[u8]) -> Vec<usize> {
+    let (mut at, mut out) = (8, Vec::new());
+    while at + 9 <= bytes.len() {
+        let len = u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap()) as usize;
+        if at + 9 + len > bytes.len() {
+            break;
+        }
+        if bytes[at] == 0x06 {
+            out.push(at);
+        }
+        at += 9 + len;
+    }
+    out
+}
+
+/// One bad byte in the first chunk (which also holds the channel records) of a killed run:
+/// read past the damage, the chunks after it give their frames and the last checkpoint, and
+/// the damage is named.
+#[test]
+fn a_damaged_chunk_is_skipped_when_asked() {
+    use pellet_geom::Tube;
+    use pellet_io::{read_trajectory, read_trajectory_with, Frame, ReadOptions, TrajectoryHeader, TrajectoryWriter};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("run.mcap");
+    let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
+    let files = [encode_pellet(&file(ShapeSpec::Sphere { diameter_mm: 10.0 })).unwrap()];
+    let tube = Tube { diameter: 0.04, lid_height: None };
+    let header = TrajectoryHeader {
+        provenance: &provenance,
+        config_json: "{}",
+        seed: 1,
+        build: "git test",
+        pellet_files: &files,
+        tube: &tube,
+    };
+    let mut w = TrajectoryWriter::create(&path, &header).unwrap();
+    for i in 0..40 {
+        let t = i as f64 * 0.01;
+        w.write_frame(&Frame { time_s: t, positions: vec![[t, 0.0, 0.0]], ..Frame::default() }).unwrap();
+        if i % 10 == 9 {
+            // Closes the chunk, as pack's checkpoints do.
+            w.write_checkpoint(t, &[i as u8; 64]).unwrap();
+        }
+    }
+    w.finish().unwrap();
+    let whole = std::fs::read(&path).unwrap();
+    let chunks = chunk_offsets(&whole);
+    assert!(chunks.len() >= 4, "{chunks:?}");
+    // Killed in the middle of its last chunk, one byte of the first chunk's data changed.
+    let mut bytes = whole[..chunks[3] + 100].to_vec();
+    bytes[chunks[0] + 80] ^= 0x5a;
+    let salvage = ReadOptions { skip_damage: true, ..ReadOptions::default() };
+    let t = read_trajectory_with(&bytes, "k.mcap.part", salvage).unwrap();
+    assert_eq!(t.damaged.len(), 1, "{:?}", t.damaged);
+    assert!(t.damaged[0].contains("the run up to t = 0.100 s is missing"), "{}", t.damaged[0]);
+    assert!(t.truncated.is_some(), "the cut at the end");
+    assert_eq!(t.checkpoint.as_deref(), Some(&[29u8; 64][..]));
+    let times: Vec<f64> = t.frames.iter().map(|f| f.time_s).collect();
+    assert_eq!(times, (10..30).map(|i| i as f64 * 0.01).collect::<Vec<_>>());
+    assert_eq!(t.pellet_files, files);
+
+    // A chunk's length field made larger: the chunk is no longer taken with the ones after it.
+    let mut bytes = whole.clone();
+    bytes[chunks[1] + 3] ^= 0x01;
+    let t = read_trajectory_with(&bytes, "g.mcap", salvage).unwrap();
+    assert_eq!(t.damaged.len(), 1, "{:?}", t.damaged);
+    assert_eq!(t.frames.len(), 30);
+    assert_eq!(t.checkpoint.as_deref(), Some(&[39u8; 64][..]));
+
+    // A sound file reads the same either way.
+    let (a, b) = (read_trajectory(&whole, "w").unwrap(), read_trajectory_with(&whole, "w", salvage).unwrap());
+    assert!(a.frames == b.frames && a.checkpoint == b.checkpoint && a.run == b.run);
+    assert!(b.damaged.is_empty() && b.truncated.is_none());
+}

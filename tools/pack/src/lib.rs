@@ -1,25 +1,25 @@
 //! `pack`: drops pellets into a tube with the rigid-body engine and
 //! streams the trajectory to an MCAP archive.
 
-use std::io::IsTerminal;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context};
 use clap::Parser;
 
 use pellet_cli::Outcome;
 use pellet_io::foxglove::ViewerShape;
-use pellet_io::{EnergyRecord, Frame, Provenance, TrajectoryHeader, TrajectoryWriter};
+use pellet_io::{Provenance, TrajectoryHeader, TrajectoryWriter};
 use pellet_pack::{
     check_setup, resume_pack, Amount, ClampRule, ContactModel, Ending, LoadingScheme, PackConfig, PackOptions,
-    Progress, RunSink,
 };
 
 mod output_lock;
 mod resume;
+mod sink;
+
+use sink::McapSink;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -38,7 +38,7 @@ Relative paths in it (pellet, output) are relative to the case file's directory.
 Lengths in mm, times in s, angles in degrees. Then: settle-check bed.mcap -o bed.packing.
 Exit codes: 0 settled, 1 not settled within --max-time (as settle-check's 1), 2 error
 (also: interrupted). After a 1 or an interrupt the trajectory is complete and readable,
-and --resume continues it.";
+and --resume continues it; after an interrupt, pack without --resume refuses to start over it.";
 
 /// Drop pellets into a tube with the hard-contact rigid-body engine until the
 /// bed settles, streaming the trajectory to an MCAP file.
@@ -146,8 +146,9 @@ pub struct Args {
     /// Continue the run of this output from its last checkpoint: a killed run (`<output>.part`), or
     /// one that was interrupted or reached its --max-time (`<output>`; give a larger --max-time).
     /// The settings must be the run's own (--max-time, --checkpoint-every and --foxglove may change).
-    /// The result equals the uninterrupted run frame for frame. Without a checkpoint to continue
-    /// from, the run starts over.
+    /// The result equals the uninterrupted run frame for frame. A damaged chunk is skipped (its
+    /// frames are missing); a partial run none of whose checkpoints reads is refused and kept.
+    /// Without a partial run, or one killed before its first checkpoint, the run starts over.
     #[arg(long)]
     resume: bool,
     /// Instead of running: write the partial run of the output (as --resume would find it) to
@@ -157,7 +158,8 @@ pub struct Args {
     #[arg(long, value_name = "FILE", conflicts_with = "resume")]
     park: Option<String>,
     /// Start over even when a killed run of this output (`<output>.part` or `<output>.resume`)
-    /// is there: without --resume or --force, pack refuses and keeps it.
+    /// or an interrupted one (`<output>`) is there: without --resume or --force, pack refuses
+    /// and keeps it.
     #[arg(long, conflicts_with_all = ["resume", "park"])]
     force: bool,
     /// No progress output.
@@ -331,7 +333,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         return Ok(Outcome::Success);
     }
     if !args.resume && !args.force {
-        refuse_to_drop_a_killed_run(&output)?;
+        refuse_to_drop_an_unfinished_run(&output)?;
     }
     let source = if args.resume {
         resume::find(&output, &config, &files[0])?.map(|s| s.set_aside(&output)).transpose()?
@@ -426,14 +428,17 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             Ok(Outcome::CheckFailed)
         }
         Ending::Interrupted => {
-            bail!("interrupted at t = {:.3} s; the trajectory so far is in {output}", summary.time_s)
+            bail!(
+                "interrupted at t = {:.3} s; the trajectory so far is in {output}: the same command with --resume continues it",
+                summary.time_s
+            )
         }
     }
 }
 
-/// A killed run's `<output>.part` (or a killed resume's `.resume`) is the only copy of what it
-/// simulated; starting over would truncate it.
-fn refuse_to_drop_a_killed_run(output: &str) -> anyhow::Result<()> {
+/// A killed run's `<output>.part` (or a killed resume's `.resume`), and an interrupted run's
+/// `<output>`, are the only copy of what it simulated; starting over would write over it.
+fn refuse_to_drop_an_unfinished_run(output: &str) -> anyhow::Result<()> {
     for suffix in [".part", ".resume"] {
         let partial = format!("{output}{suffix}");
         if Path::new(&partial).is_file() {
@@ -441,6 +446,9 @@ fn refuse_to_drop_a_killed_run(output: &str) -> anyhow::Result<()> {
                 "{partial} holds a killed run of {output}; add --resume to continue it, or remove it (or add --force) to start over"
             );
         }
+    }
+    if let Some(run) = resume::unfinished(output) {
+        bail!("{output} holds {run}; add --resume to continue it, or remove it (or add --force) to start over");
     }
     Ok(())
 }
@@ -460,75 +468,6 @@ fn viewer_tube_height(config: &PackConfig, pellet: &pellet_geom::Pellet) -> f64 
             f64::from(n) * pellet_pack::batch_height_per_pellet(rb, 0.5 * config.tube_diameter_m) + 3.0 * rb
         }
         _ => bed + config.drop_height_m + rb,
-    }
-}
-
-/// Writes frames and energy records to the MCAP file and shows progress.
-struct McapSink {
-    writer: TrajectoryWriter,
-    stop: Arc<AtomicBool>,
-    bar: Option<indicatif::ProgressBar>,
-    quiet: bool,
-    last_line: Instant,
-    last_flush: f64,
-}
-
-impl McapSink {
-    fn new(writer: TrajectoryWriter, stop: Arc<AtomicBool>, quiet: bool) -> Self {
-        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-            let bar = indicatif::ProgressBar::new_spinner();
-            bar.enable_steady_tick(Duration::from_millis(200));
-            bar
-        });
-        McapSink { writer, stop, bar, quiet, last_line: Instant::now(), last_flush: 0.0 }
-    }
-}
-
-impl RunSink for McapSink {
-    fn frame(&mut self, frame: &Frame) -> Result<(), String> {
-        self.writer.write_frame(frame).map_err(|e| e.to_string())?;
-        // Close the chunk once per simulated second: a killed run loses at most that.
-        if frame.time_s - self.last_flush >= 1.0 {
-            self.last_flush = frame.time_s;
-            self.writer.flush().map_err(|e| e.to_string())?;
-        }
-        Ok(())
-    }
-
-    fn energy(&mut self, record: &EnergyRecord) -> Result<(), String> {
-        self.writer.write_energy(record).map_err(|e| e.to_string())
-    }
-
-    fn progress(&mut self, p: &Progress) {
-        if self.quiet {
-            return;
-        }
-        let of = p.target.map(|n| format!("/{n}")).unwrap_or_default();
-        let msg = format!(
-            "t = {:.2} s  pellets {}{of}  bed top {:.1} mm  kinetic energy {:.3e} J",
-            p.time_s,
-            p.pellets,
-            p.bed_top_m * 1e3,
-            p.kinetic_j
-        );
-        match &self.bar {
-            Some(bar) => bar.set_message(msg),
-            None => {
-                // Not a terminal (make, CI): a plain line every few seconds.
-                if self.last_line.elapsed() >= Duration::from_secs(5) {
-                    self.last_line = Instant::now();
-                    eprintln!("pack: {msg}");
-                }
-            }
-        }
-    }
-
-    fn should_stop(&self) -> bool {
-        self.stop.load(Ordering::SeqCst)
-    }
-
-    fn checkpoint(&mut self, time_s: f64, bytes: &[u8]) -> Result<(), String> {
-        self.writer.write_checkpoint(time_s, bytes).map_err(|e| e.to_string())
     }
 }
 

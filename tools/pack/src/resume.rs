@@ -4,13 +4,15 @@
 //! The candidates are `<output>.part` (a killed run), `<output>` (a run that was interrupted or
 //! reached its --max-time) and `<output>.resume` (a resume that was itself killed while it
 //! copied). Of those made by the same configuration and pellet, the one with the latest
-//! checkpoint wins.
+//! checkpoint wins. Each is read past a damaged chunk (its checkpoint lost, the ones before and
+//! after it kept); a candidate that does not read at all, or none of whose checkpoints reads, is
+//! refused and left alone, since the resumed run would write over it.
 
 use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
 
-use pellet_io::{Trajectory, TrajectoryWriter};
+use pellet_io::{IoError, ReadOptions, Trajectory, TrajectoryWriter};
 use pellet_pack::{resume_conflicts, Checkpoint, Ending, PackConfig};
 
 /// A run to continue.
@@ -28,9 +30,13 @@ fn with_suffix(output: &str, suffix: &str) -> PathBuf {
 
 /// The run to continue, if any. A candidate made by another configuration or pellet is an
 /// error when no compatible one exists (continuing would mix two runs; starting over would
-/// overwrite it).
+/// overwrite it), and so is one that does not read: resuming would write over it.
 pub fn find(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::Result<Option<Source>> {
-    let found = latest(output, config, pellet_bytes)?;
+    let scan = scan(output, config, pellet_bytes)?;
+    if let Some((shown, why)) = &scan.unreadable {
+        bail!("cannot resume: {shown}: {why}; it was left as it is: remove or rename it, or give another -o, to start over");
+    }
+    let found = scan.latest()?;
     if let Some(source) = &found {
         if let Some(Ending::TimeLimit) = source.checkpoint.run.ending {
             let t = source.checkpoint.time_s();
@@ -39,6 +45,12 @@ pub fn find(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::R
                 bail!("{shown}: the run reached its --max-time at t = {t:.3} s; give a larger --max-time to go on");
             }
         }
+        for damage in &source.trajectory.damaged {
+            eprintln!(
+                "pack: warning: {}: {damage}; resuming from its last checkpoint that reads",
+                source.path.display()
+            );
+        }
     }
     Ok(found)
 }
@@ -46,41 +58,110 @@ pub fn find(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::R
 /// The compatible candidate with the latest checkpoint, unless the run settled; unlike
 /// [`find`], a run that reached this configuration's --max-time is returned too (`--park`).
 pub fn latest(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::Result<Option<Source>> {
-    let mut best: Option<Source> = None;
-    let mut refused: Option<String> = None;
+    scan(output, config, pellet_bytes)?.latest()
+}
+
+/// What the candidates hold.
+struct Scan {
+    best: Option<Source>,
+    /// Why the first candidate made by another run was passed over.
+    refused: Option<String>,
+    /// The first candidate that does not read, and why.
+    unreadable: Option<(String, String)>,
+}
+
+fn scan(output: &str, config: &PackConfig, pellet_bytes: &[u8]) -> anyhow::Result<Scan> {
+    let mut found = Scan { best: None, refused: None, unreadable: None };
     for path in [with_suffix(output, ".part"), PathBuf::from(output), with_suffix(output, ".resume")] {
         if !path.is_file() {
             continue;
         }
         let shown = path.display().to_string();
-        let Ok(bytes) = std::fs::read(&path) else { continue };
-        let Ok(mut trajectory) = pellet_io::read_trajectory(&bytes, &shown) else { continue };
-        let Some(checkpoint_bytes) = trajectory.checkpoint.take() else { continue };
+        let mut trajectory = match read_run(&path, ReadOptions::default()) {
+            Ok(Some(t)) => t,
+            Ok(None) => continue,
+            Err(why) => {
+                found.unreadable.get_or_insert((shown, why));
+                continue;
+            }
+        };
+        let Some(checkpoint_bytes) = trajectory.checkpoint.take() else {
+            // A run killed before its first checkpoint holds nothing to go on from; a damaged
+            // one may have lost its checkpoints.
+            if let Some(damage) = trajectory.damaged.first() {
+                found.unreadable.get_or_insert((shown, format!("no checkpoint reads ({damage})")));
+            }
+            continue;
+        };
+        if let (Some(damage), None) = (trajectory.damaged.first(), trajectory.run.get("config")) {
+            found.unreadable.get_or_insert((shown, format!("its run metadata does not read ({damage})")));
+            continue;
+        }
         if trajectory.pellet_files.first().map(Vec::as_slice) != Some(pellet_bytes) {
-            refused.get_or_insert(format!("{shown} was made with another pellet file"));
+            found.refused.get_or_insert(format!("{shown} was made with another pellet file"));
             continue;
         }
         let recorded = trajectory.run.get("config").map(String::as_str).unwrap_or("");
         let conflicts = resume_conflicts(recorded, config);
         if !conflicts.is_empty() {
-            refused.get_or_insert(format!("{shown} was made with other settings ({})", conflicts.join(", ")));
+            found.refused.get_or_insert(format!("{shown} was made with other settings ({})", conflicts.join(", ")));
             continue;
         }
         let checkpoint = Checkpoint::decode(&checkpoint_bytes, &shown)?;
-        if best.as_ref().is_none_or(|b| checkpoint.time_s() > b.checkpoint.time_s()) {
-            best = Some(Source { path, trajectory, checkpoint_bytes, checkpoint });
+        if found.best.as_ref().is_none_or(|b| checkpoint.time_s() > b.checkpoint.time_s()) {
+            found.best = Some(Source { path, trajectory, checkpoint_bytes, checkpoint });
         }
     }
-    match (best, refused) {
-        (Some(source), _) => {
-            let (t, shown) = (source.checkpoint.time_s(), source.path.display());
-            match source.checkpoint.run.ending {
-                Some(Ending::Settled) => bail!("{shown}: the run settled at t = {t:.3} s; nothing to resume"),
-                _ => Ok(Some(source)),
+    Ok(found)
+}
+
+impl Scan {
+    fn latest(self) -> anyhow::Result<Option<Source>> {
+        match (self.best, self.refused) {
+            (Some(source), _) => {
+                let (t, shown) = (source.checkpoint.time_s(), source.path.display());
+                match source.checkpoint.run.ending {
+                    Some(Ending::Settled) => bail!("{shown}: the run settled at t = {t:.3} s; nothing to resume"),
+                    _ => Ok(Some(source)),
+                }
             }
+            (None, Some(why)) => bail!("cannot resume: {why}; delete it, or run without --resume to start over"),
+            (None, None) => Ok(None),
         }
-        (None, Some(why)) => bail!("cannot resume: {why}; delete it, or run without --resume to start over"),
-        (None, None) => Ok(None),
+    }
+}
+
+/// Reads a trajectory of a run, past damaged chunks: `None` for a run killed as it began,
+/// which recorded nothing. The error is the reason alone, without a remedy meant for other
+/// tools.
+fn read_run(path: &Path, options: ReadOptions) -> Result<Option<Trajectory>, String> {
+    let shown = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let options = ReadOptions { skip_damage: true, ..options };
+    match pellet_io::read_trajectory_with(&bytes, &shown, options) {
+        Ok(t) => Ok(Some(t)),
+        Err(IoError::CutInHeader { .. }) => Ok(None),
+        Err(IoError::Corrupt { reason, .. }) => Err(reason.split("; ").next().unwrap_or_default().to_string()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// The run at `output` in a few words ("a run interrupted at t = 1.185 s"), if it stopped
+/// before its end: interrupted, or a parked copy of a killed run. It is then the only copy of
+/// that run, which `--resume` continues. A settled run, or one that reached its --max-time, is
+/// finished; a file that is no run read here is not one.
+pub fn unfinished(output: &str) -> Option<String> {
+    let path = Path::new(output);
+    if !path.is_file() {
+        return None;
+    }
+    let t = read_run(path, ReadOptions { skip_frames: true, ..ReadOptions::default() }).ok()??;
+    let checkpoint = Checkpoint::decode(t.checkpoint.as_deref()?, output).ok()?;
+    let t = checkpoint.time_s();
+    match checkpoint.run.ending {
+        Some(Ending::Settled | Ending::TimeLimit) => None,
+        Some(Ending::Interrupted) => Some(format!("a run interrupted at t = {t:.3} s")),
+        None => Some(format!("a partial run (its last checkpoint at t = {t:.3} s)")),
     }
 }
 

@@ -492,3 +492,143 @@ fn a_closed_stdout_is_refused_before_the_run() {
     assert_eq!(err.trim_end(), "pack: error: cannot write to standard output: it is closed; redirect it to a file (or to /dev/null to discard the output)");
     assert!(!dir.path().join("x.mcap").exists());
 }
+
+/// Offsets of the top-level chunk records of an MCAP file (after its 8-byte magic).
+fn chunk_offsets(bytes: &[u8]) -> Vec<usize> {
+    let (mut at, mut out) = (8, Vec::new());
+    while at + 9 <= bytes.len() {
+        let len = u64::from_le_bytes(bytes[at + 1..at + 9].try_into().unwrap());
+        // A chunk being written has the placeholder length u64::MAX.
+        let Some(len) = usize::try_from(len).ok().filter(|&l| l <= bytes.len() - at - 9) else { break };
+        if bytes[at] == 0x06 {
+            out.push(at);
+        }
+        at += 9 + len;
+    }
+    out
+}
+
+/// A killed run's `.part` with one bad byte in its first chunk: --resume skips that chunk, says
+/// so, and goes on from the last checkpoint that reads; the result is the uninterrupted run
+/// without the damaged chunk's records. A `.part` none of whose checkpoints reads, or that is
+/// no trajectory at all, is refused in one line and left as it was; an empty one (killed as it
+/// began) is started over.
+#[test]
+fn resume_goes_past_a_damaged_chunk_and_keeps_what_it_cannot_read() {
+    let dir = setup();
+    let d = dir.path();
+    assert_eq!(pack_owned(d, &resumable("0.9", "whole.mcap")).status.code(), Some(1));
+    let whole = read(d, "whole.mcap");
+    let bytes = std::fs::read(d.join("whole.mcap")).unwrap();
+    let chunks = chunk_offsets(&bytes);
+    assert!(chunks.len() > 5, "{chunks:?}");
+    let resume = |output: &str| {
+        let mut again = resumable("0.9", output);
+        again.push("--resume".into());
+        again.retain(|a| a != "--quiet");
+        pack_owned(d, &again)
+    };
+
+    // Killed at 60 % of its bytes, one byte of the first chunk's compressed data changed.
+    let mut part = bytes[..bytes.len() * 6 / 10].to_vec();
+    part[chunks[0] + 80] ^= 0x5a;
+    std::fs::write(d.join("k.mcap.part"), &part).unwrap();
+    let out = resume("k.mcap");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("pack: warning: k.mcap.part: ") && err.contains("do not read"), "{err}");
+    assert!(err.contains("resuming at t = ") && !err.contains("starting at t = 0"), "{err}");
+    let k = read(d, "k.mcap");
+    let (frame, energy) = (k.frames[0].time_s, k.energy[0].time_s);
+    assert!(frame > 0.0 && frame < 0.11 && energy > 0.0 && energy < 0.11, "first frame {frame} s, energy {energy} s");
+    let after = |t: f64| whole.frames.iter().filter(|f| f.time_s >= t).cloned().collect::<Vec<_>>();
+    assert!(k.frames == after(frame), "the resumed frames differ from the uninterrupted run's");
+    let after = |t: f64| whole.energy.iter().filter(|e| e.time_s >= t).cloned().collect::<Vec<_>>();
+    assert!(k.energy == after(energy), "the resumed energy records differ from the uninterrupted run's");
+    assert!(!d.join("k.mcap.part").exists() && !d.join("k.mcap.resume").exists());
+
+    // The damaged chunk (its zstd frame's magic changed) held the only complete checkpoint.
+    let mut part = bytes[..chunks[1] + 100].to_vec();
+    part[chunks[0] + 9 + 44] ^= 0x5a;
+    let not_mcap = b"not a trajectory at all".to_vec();
+    for (name, kept) in [("n.mcap.part", part), ("x.mcap.part", not_mcap)] {
+        std::fs::write(d.join(name), &kept).unwrap();
+        let output = name.trim_end_matches(".part");
+        let out = resume(output);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.starts_with(&format!("pack: error: cannot resume: {name}: ")), "{err}");
+        assert!(err.contains("remove or rename it, or give another -o"), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert_eq!(std::fs::read(d.join(name)).unwrap(), kept, "{name} was changed");
+        assert!(!d.join(output).exists() && !d.join(format!("{output}.resume")).exists());
+    }
+
+    // Killed as it began, before its first bytes left the buffer: nothing to keep.
+    std::fs::write(d.join("e.mcap.part"), b"").unwrap();
+    let out = resume("e.mcap");
+    assert!(stderr(&out).contains("starting at t = 0"), "{}", stderr(&out));
+    assert!(read(d, "e.mcap").frames == whole.frames);
+}
+
+/// Twenty spheres fed one by one, checkpoints every 0.1 s: long enough to be stopped mid-run.
+fn interruptible(max_time: &str, output: &str) -> Vec<String> {
+    let mut a = resumable(max_time, output);
+    let count = a.iter().position(|s| s == "--count").unwrap();
+    a[count + 1] = "20".into();
+    a
+}
+
+/// SIGTERM closes the run under its final name and says how to go on; the same pack without
+/// --resume refuses to start over it and keeps it; with --resume it goes on to the
+/// uninterrupted run's trajectory, every frame and energy record equal.
+#[test]
+fn an_interrupted_run_is_kept_and_resumed_exactly() {
+    let dir = setup();
+    let d = dir.path();
+    let child = Command::new(env!("CARGO_BIN_EXE_pack"))
+        .args(interruptible("60", "i.mcap"))
+        .current_dir(d)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run pack");
+    // Stopped once its first checkpoint's chunk is on disk: the run is under way, its signal
+    // handler set.
+    let start = std::time::Instant::now();
+    while std::fs::read(d.join("i.mcap.part")).map_or(true, |b| chunk_offsets(&b).is_empty()) {
+        assert!(start.elapsed().as_secs() < 60, "pack wrote no chunk");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    assert!(Command::new("kill").args(["-TERM", &child.id().to_string()]).status().unwrap().success());
+    let out = child.wait_with_output().unwrap();
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("interrupted at t = ") && err.contains("the same command with --resume continues it"),
+        "{err}"
+    );
+    let stopped = read(d, "i.mcap");
+    let t = stopped.energy.last().unwrap().time_s;
+    let kept = std::fs::read(d.join("i.mcap")).unwrap();
+
+    let out = pack_owned(d, &interruptible("60", "i.mcap"));
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.starts_with(&format!("pack: error: i.mcap holds a run interrupted at t = {t:.3} s; add --resume")),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(std::fs::read(d.join("i.mcap")).unwrap() == kept, "the interrupted run was changed");
+
+    let limit = format!("{:.3}", t + 0.2);
+    let mut again = interruptible(&limit, "i.mcap");
+    again.push("--resume".into());
+    let out = pack_owned(d, &again);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert_eq!(pack_owned(d, &interruptible(&limit, "s.mcap")).status.code(), Some(1));
+    let (resumed, straight) = (read(d, "i.mcap"), read(d, "s.mcap"));
+    assert!(resumed.frames == straight.frames, "the resumed frames differ from the uninterrupted run's");
+    assert!(resumed.energy == straight.energy, "the resumed energy records differ from the uninterrupted run's");
+    assert!(resumed.frames.last().unwrap().time_s > t);
+}
