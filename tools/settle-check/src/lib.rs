@@ -77,6 +77,9 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     if let Some(why) = &trajectory.truncated {
         eprintln!("settle-check: warning: {} is truncated ({why}); using what it holds", args.input);
     }
+    for damage in &trajectory.damaged {
+        eprintln!("settle-check: warning: {}: {damage}; using what it holds", args.input);
+    }
     if trajectory.energy.is_empty() {
         bail!("{}: the trajectory has no energy records; was `pack` stopped before its first step?", args.input);
     }
@@ -142,6 +145,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             "reason": report.reason,
             "frame_time_s": frame.map(|f| f.time_s),
             "truncated": trajectory.truncated.is_some(),
+            "damaged": !trajectory.damaged.is_empty(),
             // The source of the `pack` that made the trajectory (null before it was recorded).
             "build": trajectory.run.get("build"),
         }))? + "\n"
