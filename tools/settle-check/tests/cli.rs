@@ -184,6 +184,12 @@ fn damage_anywhere_in_a_trajectory_is_an_error_or_a_truncation_never_a_crash() {
                 "bytes {at}..{end} {name}: {:?}\n{err}",
                 out.status
             );
+            // An error is one line; a warning (damaged, truncated) one line each.
+            if out.status.code() == Some(2) {
+                assert_eq!(err.trim_end().lines().count(), 1, "bytes {at}..{end} {name}: {err}");
+            }
+            assert!(err.lines().all(|l| l.starts_with("settle-check: ")), "bytes {at}..{end} {name}: {err}");
+            assert!(std::fs::read(dir.path().join("d.mcap")).unwrap() == b, "bytes {at}..{end} {name}: input changed");
         }
     }
 }
