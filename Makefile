@@ -5,7 +5,7 @@ OUT ?= out
 # Where cargo puts the release build (CARGO_TARGET_DIR if set).
 BIN := $(or $(CARGO_TARGET_DIR),target)/release
 
-.PHONY: all build pipeline test test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
+.PHONY: all build pipeline test fuzz test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
 
 all: pipeline
 
@@ -25,6 +25,14 @@ doc:
 test: lint doc
 	$(CARGO) build --workspace --bins
 	$(CARGO) test --workspace
+
+# The readers' property tests (damaged, cut and hostile pellet, packing, trajectory, poses CSV,
+# STL, OBJ and case files) with FUZZ_CASES cases each instead of the few hundred `make test`
+# runs: a soak of several minutes, not part of `make test`.
+FUZZ_CASES ?= 20000
+fuzz:
+	PROPTEST_CASES=$(FUZZ_CASES) $(CARGO) test -p pellet_io --test fuzz_framed --test fuzz_trajectory --test fuzz_text
+	PROPTEST_CASES=$(FUZZ_CASES) $(CARGO) test -p pellet_pack --test fuzz_case_file
 
 # The pipelines on a real one-node Slurm started for the test (Debian's
 # slurm-wlm and munge), against the same runs made locally (tests/slurm/test.sh;

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::math::{Point, Real, UnitQuaternion, Vector};
+use crate::math::{shown, Point, Real, UnitQuaternion, Vector};
 use crate::pellet::Pellet;
 use crate::GeomError;
 
@@ -70,7 +70,13 @@ impl Bed {
     /// Checks indices, unit quaternions and finite coordinates.
     pub fn validate(&self) -> Result<(), GeomError> {
         if !(self.tube.diameter.is_finite() && self.tube.diameter > 0.0) {
-            return Err(GeomError::BadParameter(format!("tube diameter {} mm is not > 0", self.tube.diameter * 1e3)));
+            return Err(GeomError::BadParameter(format!(
+                "tube diameter {} mm is not > 0",
+                shown(self.tube.diameter * 1e3)
+            )));
+        }
+        if let Some(lid) = self.tube.lid_height.filter(|h| !(h.is_finite() && *h > 0.0)) {
+            return Err(GeomError::BadParameter(format!("lid height {} mm is not > 0", shown(lid * 1e3))));
         }
         for (i, p) in self.pellets.iter().enumerate() {
             if p.type_index as usize >= self.pellet_types.len() {
@@ -85,7 +91,10 @@ impl Bed {
             }
             let norm = p.orientation.iter().map(|c| c * c).sum::<Real>().sqrt();
             if (norm - 1.0).abs() > 1e-6 {
-                return Err(GeomError::BadParameter(format!("pellet {i}'s quaternion has norm {norm}, not 1")));
+                return Err(GeomError::BadParameter(format!(
+                    "pellet {i}'s quaternion has norm {}, not 1",
+                    shown(norm)
+                )));
             }
         }
         Ok(())

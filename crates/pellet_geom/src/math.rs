@@ -15,3 +15,13 @@ pub type Matrix = nalgebra::Matrix3<Real>;
 pub type Vector2 = nalgebra::Vector2<Real>;
 /// A unit quaternion (body-to-world rotations).
 pub type UnitQuaternion = nalgebra::UnitQuaternion<Real>;
+
+/// `x` for a message: as Rust prints it for everyday magnitudes, in scientific notation far
+/// from them, where a damaged file's 1e300 or 1e-300 would print some 300 digits.
+pub fn shown(x: Real) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-6..1e15).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}

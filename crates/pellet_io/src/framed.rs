@@ -104,7 +104,7 @@ impl Format {
 
 /// A decoding error in the reader's terms: the decoder's own names (`UnexpectedEnd`,
 /// `LimitExceeded`) mean nothing to someone holding a damaged file.
-fn what_is_wrong(e: &bincode::error::DecodeError) -> &'static str {
+pub(crate) fn what_is_wrong(e: &bincode::error::DecodeError) -> &'static str {
     use bincode::error::DecodeError as E;
     match e {
         E::UnexpectedEnd { .. } => "is truncated (its data ends early)",

@@ -92,6 +92,7 @@ mod packing_file;
 mod pellet_file;
 mod poses_csv;
 mod stdout;
+mod stl_read;
 mod trajectory;
 
 pub use atomic::{is_special_file, read_input, remove_temporary_files_on_signal, write_outputs, OutputFile};

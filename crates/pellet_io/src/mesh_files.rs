@@ -34,15 +34,11 @@ pub fn read_mesh(bytes: &[u8], format: MeshFormat, path: &str) -> Result<TriMesh
     let corrupt = |reason: String| IoError::Corrupt { path: path.into(), reason };
     let mesh = match format {
         MeshFormat::Stl => {
-            let stl = stl_io::read_stl(&mut Cursor::new(bytes)).map_err(|e| corrupt(format!("unreadable STL: {e}")))?;
-            TriMesh {
-                vertices: stl.vertices.iter().map(|v| Point::new(v[0] as Real, v[1] as Real, v[2] as Real)).collect(),
-                triangles: stl
-                    .faces
-                    .iter()
-                    .map(|f| [f.vertices[0] as u32, f.vertices[1] as u32, f.vertices[2] as u32])
-                    .collect(),
-            }
+            let triangles = crate::stl_read::read_stl(bytes).map_err(|e| corrupt(format!("unreadable STL: {e}")))?;
+            let corner = |c: [f32; 3]| Point::new(c[0] as Real, c[1] as Real, c[2] as Real);
+            let vertices = triangles.iter().flat_map(|t| t.map(corner)).collect();
+            let triangles = (0..triangles.len() as u32).map(|t| [3 * t, 3 * t + 1, 3 * t + 2]).collect();
+            merge_coincident(TriMesh { vertices, triangles })
         }
         MeshFormat::Obj => {
             let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
@@ -54,6 +50,13 @@ pub fn read_mesh(bytes: &[u8], format: MeshFormat, path: &str) -> Result<TriMesh
             for model in models {
                 let base = mesh.vertices.len() as u32;
                 let m = model.mesh;
+                let count = m.positions.len() / 3;
+                if let Some(&i) = m.indices.iter().find(|&&i| i as usize >= count) {
+                    return Err(corrupt(format!(
+                        "unreadable OBJ: a face names vertex {} of an object with {count}",
+                        i as u64 + 1
+                    )));
+                }
                 mesh.vertices
                     .extend(m.positions.chunks_exact(3).map(|p| Point::new(p[0] as Real, p[1] as Real, p[2] as Real)));
                 mesh.triangles.extend(m.indices.chunks_exact(3).map(|t| [base + t[0], base + t[1], base + t[2]]));
@@ -63,6 +66,10 @@ pub fn read_mesh(bytes: &[u8], format: MeshFormat, path: &str) -> Result<TriMesh
     };
     if mesh.triangles.is_empty() {
         return Err(corrupt("the file holds no triangles".into()));
+    }
+    // Binary STL and OBJ (`nan`, `1e999`) can hold numbers no pellet is made of.
+    if mesh.vertices.iter().any(|v| !v.iter().all(|c| c.is_finite())) {
+        return Err(corrupt("a vertex has a coordinate that is not a finite number (NaN or infinite)".into()));
     }
     if format == MeshFormat::Stl {
         single_precision_suffices(&mesh).map_err(corrupt)?;
@@ -94,7 +101,8 @@ fn single_precision_suffices(mesh: &TriMesh) -> Result<(), String> {
     Ok(())
 }
 
-/// Merges vertices with identical coordinates (OBJ groups repeat them).
+/// Merges vertices with identical coordinates (OBJ groups repeat them, STL lists every
+/// triangle's corners).
 fn merge_coincident(mesh: TriMesh) -> TriMesh {
     let mut index = std::collections::BTreeMap::new();
     let mut vertices = Vec::new();

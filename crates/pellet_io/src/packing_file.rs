@@ -55,5 +55,11 @@ pub fn encode_packing(file: &PackingFile) -> Result<Vec<u8>, IoError> {
 pub fn decode_packing(bytes: &[u8], path: &str) -> Result<PackingFile, IoError> {
     let file: PackingFile = FORMAT.decode(bytes, path)?;
     file.bed.validate().map_err(|e| IoError::Corrupt { path: path.into(), reason: e.to_string() })?;
+    for (i, pellet) in file.bed.pellet_types.iter().enumerate() {
+        crate::pellet_file::check_pellet(pellet).map_err(|e| IoError::Corrupt {
+            path: path.into(),
+            reason: format!("pellet type {i} {e}; {}", FORMAT.remedy),
+        })?;
+    }
     Ok(file)
 }

@@ -83,14 +83,14 @@ pub fn decode_poses_csv(bytes: &[u8], path: &str, orientation_required: bool) ->
             let f = fields.get(i).ok_or_else(|| corrupt(line_no, format!("no {} field", NAMES[k])))?;
             match f.parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(Some(v)),
-                _ => Err(corrupt(line_no, format!("{} = {f:?} is not a finite number", NAMES[k]))),
+                _ => Err(corrupt(line_no, format!("{} = `{}` is not a finite number", NAMES[k], shown_field(f)))),
             }
         };
         if let Some(id) = cols[0].and_then(|i| fields.get(i)) {
             if let Some(first) = ids.insert(id.to_string(), line_no) {
                 return Err(corrupt(
                     line_no,
-                    format!("id {id} is also on line {first}; every pellet needs its own id"),
+                    format!("id {} is also on line {first}; every pellet needs its own id", shown_field(id)),
                 ));
             }
         }
@@ -102,7 +102,10 @@ pub fn decode_poses_csv(bytes: &[u8], path: &str, orientation_required: bool) ->
             (Some(w), Some(x), Some(y), Some(z)) => {
                 let norm = (w * w + x * x + y * y + z * z).sqrt();
                 if (norm - 1.0).abs() > 1e-3 {
-                    return Err(corrupt(line_no, format!("the quaternion has norm {norm}, not 1")));
+                    return Err(corrupt(
+                        line_no,
+                        format!("the quaternion has norm {}, not 1", pellet_geom::math::shown(norm)),
+                    ));
                 }
                 [w / norm, x / norm, y / norm, z / norm]
             }
@@ -114,6 +117,16 @@ pub fn decode_poses_csv(bytes: &[u8], path: &str, orientation_required: bool) ->
         poses.push(PlacedPellet { type_index: 0, position, orientation });
     }
     Ok(poses)
+}
+
+/// At most 40 characters of a field, control characters as `?`: a message quotes what the
+/// file holds, but a damaged file's field may be megabytes long.
+fn shown_field(s: &str) -> String {
+    let mut out: String = s.chars().take(40).map(|c| if c.is_control() { '?' } else { c }).collect();
+    if s.chars().nth(40).is_some() {
+        out.push('…');
+    }
+    out
 }
 
 #[cfg(test)]

@@ -117,9 +117,10 @@ fn encode<T: Serialize>(value: &T, buf: &mut Vec<u8>) -> Result<(), IoError> {
 }
 
 fn decode<T: serde::de::DeserializeOwned>(bytes: &[u8], path: &str, what: &str) -> Result<T, IoError> {
-    bincode::serde::decode_from_slice(bytes, config())
-        .map(|(v, _)| v)
-        .map_err(|e| IoError::Corrupt { path: path.into(), reason: format!("undecodable {what} message: {e}") })
+    bincode::serde::decode_from_slice(bytes, config()).map(|(v, _)| v).map_err(|e| IoError::Corrupt {
+        path: path.into(),
+        reason: format!("a {what} message {}", crate::framed::what_is_wrong(&e)),
+    })
 }
 
 fn mcap_error(path: &Path) -> impl Fn(mcap::McapError) -> IoError {

@@ -11,6 +11,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::driver::STEP_S;
 use crate::loading::LoadingScheme;
+use pellet_geom::math::shown;
 pub use pellet_sim::Stepper;
 
 /// Most pellets a bed may hold: checked before anything is allocated for them (a million
@@ -125,12 +126,18 @@ impl PackOptions {
     /// Parses a case file: JSON if it starts with `{`, TOML otherwise.
     pub fn from_case_file(text: &str, name: &str) -> Result<Self, ConfigError> {
         if text.trim_start().starts_with('{') {
-            serde_json::from_str(text).map_err(|e| ConfigError(format!("{name}: bad JSON case file: {e}")))
+            serde_json::from_str(text)
+                .map_err(|e| ConfigError(format!("{name}: bad JSON case file: {}", plain(&e.to_string()))))
         } else {
             toml::from_str(text).map_err(|e| {
                 // The position as name:line, where an editor jumps to it.
-                let at = e.span().map_or(String::new(), |s| format!(":{}", text[..s.start].matches('\n').count() + 1));
-                ConfigError(format!("{name}{at}: bad TOML case file: {}", e.message()))
+                let at = e.span().map_or(String::new(), |s| {
+                    format!(
+                        ":{}",
+                        text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
+                    )
+                });
+                ConfigError(format!("{name}{at}: bad TOML case file: {}", plain(e.message())))
             })
         }
     }
@@ -189,6 +196,59 @@ impl PackOptions {
             stepper
         )
     }
+}
+
+/// A parser's message in a user's terms, on one line: a misspelt key's message lists all 30
+/// keys (some 470 characters), so it names the nearest instead; and what the file holds is
+/// quoted to at most 40 characters (a value may be a megabyte long).
+fn plain(message: &str) -> String {
+    if let Some((key, keys)) = message.strip_prefix("unknown field `").and_then(|m| m.split_once('`')) {
+        let keys: Vec<&str> = keys.split('`').skip(1).step_by(2).collect();
+        let nearest = keys.iter().min_by_key(|k| edit_distance(key, k));
+        let hint = nearest.map_or(String::new(), |k| format!("; did you mean `{k}`?"));
+        return format!("unknown key `{}`{hint} (keys are pack's flags without the dashes)", clip(key, 40));
+    }
+    // Quoted spans ("…" or `…`) clipped, everything else kept.
+    let mut out = String::new();
+    let mut rest = message;
+    while let Some(open) = rest.find(['"', '`']) {
+        let quote = rest[open..].chars().next().expect("found");
+        out.push_str(&rest[..=open]);
+        rest = &rest[open + 1..];
+        let close = rest.find(quote).unwrap_or(rest.len());
+        out.push_str(&clip(&rest[..close], 40));
+        rest = &rest[close..];
+        if let Some(q) = rest.strip_prefix(quote) {
+            out.push(quote);
+            rest = q;
+        }
+    }
+    out.push_str(rest);
+    clip(&out.replace(['\n', '\r'], " "), 200)
+}
+
+/// At most `n` characters of `s`, an ellipsis marking a cut.
+fn clip(s: &str, n: usize) -> String {
+    match s.char_indices().nth(n) {
+        Some((at, _)) => format!("{}…", &s[..at]),
+        None => s.to_string(),
+    }
+}
+
+/// Levenshtein distance, for suggesting the key a typo meant.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let next = (diagonal + usize::from(ca != cb)).min(row[j] + 1).min(row[j + 1] + 1);
+            diagonal = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
 }
 
 /// How much to load.
@@ -283,7 +343,7 @@ fn check(flag: &str, v: f64, lo: f64, hi: f64, lo_open: bool, unit: &str) -> Res
     } else {
         let open = if lo_open { "(" } else { "[" };
         let hi_txt = if hi.is_infinite() { "∞)".to_string() } else { format!("{hi}]") };
-        Err(ConfigError(format!("--{flag} must be in {open}{lo}, {hi_txt}{unit} (got {v})")))
+        Err(ConfigError(format!("--{flag} must be in {open}{lo}, {hi_txt}{unit} (got {})", shown(v))))
     }
 }
 
@@ -293,14 +353,15 @@ fn whole_steps(flag: &str, v: f64, hi: f64) -> Result<f64, ConfigError> {
     let v = check(flag, v, 0.0, hi, true, " s")?;
     let steps = (v / STEP_S).round();
     if steps < 1.0 || (steps * STEP_S - v).abs() > 1e-9 * v.max(1.0) {
-        let shown = |steps: f64| {
+        let time = |steps: f64| {
             let t = format!("{:.3}", steps.max(1.0) * STEP_S);
             t.trim_end_matches('0').trim_end_matches('.').to_string()
         };
-        let (below, above) = (shown((v / STEP_S).floor()), shown((v / STEP_S).ceil()));
+        let (below, above) = (time((v / STEP_S).floor()), time((v / STEP_S).ceil()));
         let nearest = if below == above { below } else { format!("{below} or {above}") };
         return Err(ConfigError(format!(
-            "--{flag} must be a whole number of the {STEP_S} s engine steps (at least {STEP_S} s; got {v} s): give {nearest}"
+            "--{flag} must be a whole number of the {STEP_S} s engine steps (at least {STEP_S} s; got {} s): give {nearest}",
+            shown(v)
         )));
     }
     Ok(v)
@@ -452,7 +513,7 @@ mod tests {
         assert_eq!(c.scheme, LoadingScheme::FourColumns);
         assert_eq!(c.amount, Amount::FillHeight(0.12));
         let err = PackOptions::from_case_file("tube-diametr = 3\n", "x.toml").unwrap_err().to_string();
-        assert!(err.contains("tube-diametr"), "{err}");
+        assert!(err.contains("unknown key `tube-diametr`; did you mean `tube-diameter`?"), "{err}");
     }
 
     #[test]

@@ -199,3 +199,33 @@ fn a_closed_stdout_is_an_error_not_a_silent_success() {
     assert_error(&mkpellet_stdout_closed(dir.path(), &["info", "s.pellet"]), "standard output: it is closed");
     assert_error(&mkpellet_stdout_closed(dir.path(), &["--help"]), "standard output: it is closed");
 }
+
+/// Damaged inputs of both readers `mkpellet` has (meshes for `import`, pellet files for
+/// `info`): exit 2, one line, nothing written, the input left as it was.
+#[test]
+fn damaged_meshes_and_pellets_are_one_line_errors_and_left_unchanged() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut lying = vec![0u8; 84 + 50];
+    lying[80..84].copy_from_slice(&1000u32.to_le_bytes());
+    let good = mkpellet(dir.path(), &["sphere", "--diameter", "5", "-o", "s.pellet"]);
+    assert_eq!(good.status.code(), Some(0));
+    let mut flipped = std::fs::read(dir.path().join("s.pellet")).unwrap();
+    let mid = flipped.len() / 2;
+    flipped[mid] ^= 0x40;
+    let cases: &[(&str, &[u8], &str)] = &[
+        ("lying.stl", &lying, "its header counts 1000 triangles"),
+        ("empty.stl", b"", "a binary STL is truncated: 0 bytes"),
+        ("short.stl", b"solid t\nfacet normal 0 0 1\nouter loop\nvertex 1 2\n", "line 4: `vertex` must be followed"),
+        ("nan.obj", b"v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n", "not a finite number"),
+        ("past.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "unreadable OBJ"),
+        ("flipped.pellet", &flipped, "checksum does not match"),
+    ];
+    for (name, bytes, needle) in cases {
+        std::fs::write(dir.path().join(name), bytes).unwrap();
+        let args: &[&str] =
+            if name.ends_with(".pellet") { &["info", name] } else { &["import", name, "-o", "x.pellet"] };
+        assert_error(&mkpellet(dir.path(), args), needle);
+        assert_eq!(&std::fs::read(dir.path().join(name)).unwrap(), bytes, "{name} was changed");
+        assert!(!dir.path().join("x.pellet").exists(), "{name}: an output was written");
+    }
+}

@@ -74,11 +74,18 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     )?;
     let bytes = pellet_io::read_input(&args.input)?;
     let trajectory = pellet_io::read_trajectory(&bytes, &args.input)?;
-    if let Some(why) = &trajectory.truncated {
-        eprintln!("settle-check: warning: {} is truncated ({why}); using what it holds", args.input);
-    }
+    let stopped: Vec<String> = (trajectory.truncated.iter().map(|why| format!("{} is truncated ({why})", args.input)))
+        .chain(trajectory.damaged.iter().map(|damage| format!("{}: {damage}", args.input)))
+        .collect();
     if trajectory.energy.is_empty() {
+        // One line: the damage or the cut is why there is nothing, not a warning before it.
+        if let Some(why) = stopped.first() {
+            bail!("{why}; no energy record reads");
+        }
         bail!("{}: the trajectory has no energy records; was `pack` stopped before its first step?", args.input);
+    }
+    for why in &stopped {
+        eprintln!("settle-check: warning: {why}; using what it holds");
     }
     let bed_types = pellet_types(&trajectory, &args.input)?;
     let criteria = criteria(&args, &trajectory, &bed_types)?;
@@ -142,6 +149,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             "reason": report.reason,
             "frame_time_s": frame.map(|f| f.time_s),
             "truncated": trajectory.truncated.is_some(),
+            "damaged": !trajectory.damaged.is_empty(),
             // The source of the `pack` that made the trajectory (null before it was recorded).
             "build": trajectory.run.get("build"),
         }))? + "\n"

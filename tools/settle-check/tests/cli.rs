@@ -156,9 +156,10 @@ fn a_chunk_with_a_corrupt_size_is_read_up_to_that_chunk_not_aborted_on() {
     let out = settle_check(dir.path(), &["bad.mcap", "--json"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(matches!(out.status.code(), Some(0) | Some(1)), "{err}");
-    assert!(err.contains("bad.mcap is truncated ("), "{err}");
+    // The file is whole: its last chunk is damaged, not cut.
+    assert!(err.contains("bad.mcap: the file is damaged after t = "), "{err}");
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["truncated"], true, "{v}");
+    assert_eq!((&v["truncated"], &v["damaged"]), (&false.into(), &true.into()), "{v}");
 }
 
 #[test]
@@ -183,6 +184,12 @@ fn damage_anywhere_in_a_trajectory_is_an_error_or_a_truncation_never_a_crash() {
                 "bytes {at}..{end} {name}: {:?}\n{err}",
                 out.status
             );
+            // An error is one line; a warning (damaged, truncated) one line each.
+            if out.status.code() == Some(2) {
+                assert_eq!(err.trim_end().lines().count(), 1, "bytes {at}..{end} {name}: {err}");
+            }
+            assert!(err.lines().all(|l| l.starts_with("settle-check: ")), "bytes {at}..{end} {name}: {err}");
+            assert!(std::fs::read(dir.path().join("d.mcap")).unwrap() == b, "bytes {at}..{end} {name}: input changed");
         }
     }
 }

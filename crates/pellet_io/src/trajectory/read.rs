@@ -32,7 +32,8 @@ pub struct Trajectory {
     /// The bytes of the last checkpoint (see [`super::TrajectoryWriter::write_checkpoint`]).
     pub checkpoint: Option<Vec<u8>>,
     /// The damaged stretches [`ReadOptions::skip_damage`] went past, each in a few words: where,
-    /// what was wrong, which stretch of the run is missing.
+    /// what was wrong, which stretch of the run is missing. Read strictly, the damage reading
+    /// stopped at (then `truncated` is `None`: the file is whole but does not read).
     pub damaged: Vec<String>,
 }
 
@@ -63,10 +64,21 @@ enum Reader<'a> {
     Salvage(Salvage<'a>),
 }
 
+/// Why the strict reader stopped before the end of the file.
+enum Stop {
+    Cut(String),
+    Damaged(String),
+}
+
 impl Reader<'_> {
-    fn next(&mut self) -> Option<Result<Record<'static>, String>> {
+    fn next(&mut self) -> Option<Result<Record<'static>, Stop>> {
         match self {
-            Reader::Strict(r) => r.next().map(|r| r.map_err(|e| e.to_string())),
+            Reader::Strict(r) => r.next().map(|r| {
+                r.map_err(|e| match e {
+                    mcap::McapError::UnexpectedEof => Stop::Cut(e.to_string()),
+                    e => Stop::Damaged(e.to_string()),
+                })
+            }),
             Reader::Salvage(s) => s.next().map(Ok),
         }
     }
@@ -115,8 +127,15 @@ pub fn read_trajectory_with(bytes: &[u8], path: &str, options: ReadOptions) -> R
     while let Some(record) = reader.next() {
         let record = match record {
             Ok(r) => r,
-            Err(e) => {
+            // The file ends inside a record: a killed run's cut.
+            Err(Stop::Cut(e)) => {
                 out.truncated = Some(e);
+                break;
+            }
+            // A record that is all there but does not read: damage, which a cut file never has.
+            Err(Stop::Damaged(e)) => {
+                let after = last_time.map_or(String::new(), |t| format!(" after t = {t:.3} s"));
+                out.damaged.push(format!("the file is damaged{after}, and not read past it ({e})"));
                 break;
             }
         };
@@ -177,6 +196,11 @@ pub fn read_trajectory_with(bytes: &[u8], path: &str, options: ReadOptions) -> R
     }
     if !header_seen && out.truncated.is_some() && out.damaged.is_empty() {
         return Err(IoError::CutInHeader { path: path.into(), len: bytes.len() });
+    }
+    if !header_seen && !options.skip_damage {
+        if let Some(damage) = out.damaged.first() {
+            return Err(IoError::Corrupt { path: path.into(), reason: damage.clone() });
+        }
     }
     if !profile_ok {
         return Err(IoError::Corrupt {
