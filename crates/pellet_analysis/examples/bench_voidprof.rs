@@ -1,4 +1,4 @@
-//! Speed of the default profile on a 600-sphere bed (issue 6: under 10 s on one core).
+//! Speed of the default profile on a 600-sphere bed (the target: under 10 s on one core).
 //!
 //! ```sh
 //! cargo run --release -p pellet_analysis --example bench_voidprof [poses.csv]

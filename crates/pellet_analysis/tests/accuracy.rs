@@ -1,4 +1,4 @@
-//! The accuracy targets of issue 6, on beds built in code with known geometry.
+//! The accuracy targets of the void-fraction analysis, on beds built in code with known geometry.
 
 use std::f64::consts::PI;
 

@@ -11,7 +11,7 @@ use crate::{sphere, GeomError};
 const MM: Real = 1e-3;
 
 /// Sectors of a ring's convex decomposition: 32 keeps the chord sliver in
-/// the hole below 0.5 % of the inner radius (physics.md §6.7).
+/// the hole below 0.5 % of the inner radius.
 pub const RING_SECTORS: usize = 32;
 
 /// The cross-section of an extruded catalogue shape, in metres, and its height.

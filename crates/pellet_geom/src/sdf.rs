@@ -1,5 +1,5 @@
 //! Closed-form signed distances of the paper's three pellet shapes
-//! (physics.md §6.3): the engine's fast path.
+//! (`docs/engine.md`, "Contact generation"): the engine's fast path.
 //!
 //! Body frame: origin at the centroid, axis along z. Negative inside,
 //! exact Euclidean distance on both sides, 1-Lipschitz.

@@ -5,7 +5,7 @@
 //!
 //! `pack` writes one into the trajectory every `--checkpoint-every` simulated seconds and at
 //! the end; `pack --resume` reads the last one back. A bed of hundreds of cylinders takes hours,
-//! and a run killed by a machine going down, a wall-clock limit or a session's end is then
+//! and a run killed by a machine going down, a wall-clock limit or a closed terminal is then
 //! not lost: the resumed trajectory equals the uninterrupted one frame for frame.
 
 use serde::{Deserialize, Serialize};

@@ -86,20 +86,20 @@ pub struct PackOptions {
     pub stepper: Option<Stepper>,
 }
 
-/// Which contact model the engine uses (physics.md's preface and §5.4).
+/// Which contact model the engine uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ContactModel {
     /// The paper's model: dynamic Coulomb friction only (none below the slip
     /// threshold εf), no velocity bias.
     Paper,
-    /// physics.md's recommendation: static friction at resting contacts, the
+    /// The recommended model: static friction at resting contacts, the
     /// stick clamp, and the velocity bias that removes drift at resting contacts.
     Recommended,
 }
 
-/// What friction does where it would reverse a contact's slip within a substep (physics.md
-/// §3.4, the "friction rule" of the T14 sensitivity).
+/// What friction does where it would reverse a contact's slip within a substep (the "friction
+/// rule" whose effect on porosity a sensitivity study reports).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ClampRule {
@@ -109,7 +109,8 @@ pub enum ClampRule {
     Zero,
 }
 
-/// εp of both contact models (m/s): physics.md §8.1's value for mm pellets.
+/// εp of both contact models (m/s), for mm pellets: twice g·δt_cap at δt_cap = 2.5e-4 s, so
+/// that a body whose contact has just formed does not re-collide every substep.
 pub const DEFAULT_RESTING_BAND: f64 = 5e-3;
 
 fn default_resting_band() -> f64 {

@@ -18,7 +18,7 @@
 //! - **batch**: every pellet at once, as a loose random cloud filling the
 //!   tube from the floor up (bounding spheres apart, a quarter of the
 //!   cloud's volume inside them), in random orientations, released from rest:
-//!   the usual set-up of DEM settling studies (physics.md T14). Its fall is
+//!   the usual set-up of DEM settling studies. Its fall is
 //!   short and all pellets move together, so a bed of hundreds of pellets
 //!   needs about a second of simulated time instead of tens.
 //!

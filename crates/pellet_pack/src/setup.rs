@@ -109,10 +109,10 @@ pub fn check_setup(config: &PackConfig, pellet: &Pellet) -> Result<(), PackError
 
 /// The empty world of a pack run: the tube, materials and engine parameters of `config`, and
 /// `pellet` registered as its one type (refused if the tube is too narrow for it). Beds of
-/// spheres solve their large islands with MPRGP, others with APGD: measured 2026-11-24 (sixth
-/// session, engine NOTES), MPRGP took 38 % less CPU on the paper's 690-sphere bed, but a
-/// 3.55 N cylinder bed of the paper study that APGD settles at 3.4 s in 97 s of CPU still crept
-/// at 20 s with MPRGP (a top pellet rocking, KE ~2e-10 J flickering).
+/// spheres solve their large islands with MPRGP, others with APGD: measured, MPRGP took 38 %
+/// less CPU on the paper's 690-sphere bed, but a 3.55 N cylinder bed of the paper study that
+/// APGD settles at 3.4 s in 97 s of CPU still crept at 20 s with MPRGP (a top pellet rocking,
+/// KE ~2e-10 J flickering).
 pub fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_sim::TypeId), PackError> {
     let tube_radius = 0.5 * config.tube_diameter_m;
     let min_radius = narrowest_tube_radius(pellet);
@@ -138,10 +138,11 @@ pub fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_
 
 /// The engine parameters of a pack run: the chosen contact model, its εp and
 /// clamp rule, with islands above [`EXACT_SOLVER_MAX_ROWS`] rows left to the
-/// iterative solver. εp sets εf too (physics.md §8.1: εf = εp), and the
-/// substep cap is lowered to εp/(2g) where that is below the engine's 2.5e-4 s
-/// (physics.md §5.5: with g·δt_cap > εp/2 a body whose contact has just formed
-/// re-collides every substep); at the default εp of 5e-3 m/s it stays 2.5e-4 s.
+/// iterative solver. εp sets εf too (εf = εp: below it the sliding direction
+/// is noise), and the substep cap is lowered to εp/(2g) where that is below
+/// the engine's 2.5e-4 s (with g·δt_cap > εp/2 a body whose contact has just
+/// formed re-collides every substep); at the default εp of 5e-3 m/s it stays
+/// 2.5e-4 s.
 pub fn engine_params(config: &PackConfig) -> EngineParams {
     let base = match config.contact_model {
         ContactModel::Paper => EngineParams::default(),
@@ -179,7 +180,6 @@ pub const EXACT_SOLVER_MAX_ROWS: usize = 16;
 /// 0.1–0.5 mm and turning up to 9° per second, KE 3.2e-8 J, 136 s of CPU);
 /// with every island solved by Baraff the same bed was at rest (KE 1e-17 J)
 /// by 2 s, but slowly. With the fallback up to 64 rows it settles at 2.19 s
-/// simulated in 26 s of CPU; up to 96 rows, at 5.09 s in 107 s. Measured
-/// 2026-11-23; unconverged islands are rare in sphere beds, so they pay
-/// almost nothing for it.
+/// simulated in 26 s of CPU; up to 96 rows, at 5.09 s in 107 s. Unconverged
+/// islands are rare in sphere beds, so they pay almost nothing for it.
 pub const EXACT_FALLBACK_MAX_ROWS: usize = 64;

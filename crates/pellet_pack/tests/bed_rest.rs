@@ -1,4 +1,4 @@
-//! Beds the engine once left creeping must now come to rest.
+//! Beds that creep when patches merge normals within 11.5° must come to rest.
 //!
 //! The paper's narrowest cylinder
 //! bed (69 cylinders of 10 × 10 mm, D = 33.65 mm) at t = 7.06 s of a run made while contact
@@ -7,8 +7,8 @@
 //!
 //! Measured (0.1 s after the restart): with patches of normals within 11.5° (cos 0.98) the bed
 //! kept creeping — KE 2.9e-7 J, fastest pellet 2.9e-3 m/s, position projection lifting pellets
-//! by ~4e-5 J per 1/40 s; with cos 0.9998, KE 4e-17 J and 1e-7 m/s (crates/pellet_sim/NOTES.md,
-//! 2026-11-24).
+//! by ~4e-5 J per 1/40 s; with cos 0.9998, KE 4e-17 J and 1e-7 m/s (see `PATCH_COS` in
+//! `pellet_sim`'s `geometry/patch.rs`).
 
 mod common;
 

@@ -78,8 +78,8 @@ fn resumed_equals_whole(stepper: Stepper) {
     let config = |t| config_with(t, stepper);
     let pellet = cylinder();
     let mut whole = Recorder::default();
-    // The limit comes well before the bed settles (at 0.80 s with the engine of 68a6bb6; at
-    // 0.8 s exactly, the limit this test had, it settled on its last record).
+    // The limit comes well before the bed settles (at 0.80 s; with the limit at 0.8 s
+    // exactly it would settle on its last record).
     let summary = run_pack(&config(LIMIT), &pellet, &mut whole).unwrap();
     assert_eq!(summary.ending, Ending::TimeLimit);
     // Checkpoints every 0.1 s and one at the end.

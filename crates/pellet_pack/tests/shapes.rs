@@ -139,10 +139,9 @@ fn a_cylinder_bed_settles() {
 
 /// The first 1.1 s of the paper's ring bed (D = 40.45 mm, seed 1, one column, filled to 120
 /// mm): on a 41-row island at t = 1.048 s the friction fixed point of the exact fallback grew
-/// ×12 per round (normal forces from 0.07 N to 1e20 N) and flung the bed out of the tube
-/// (`pellet_sim` NOTES, 2026-11-24 second session). Every recorded pellet must stay inside the
-/// tube and above the floor, and no pellet may move faster than a pellet dropped from the
-/// feed height could (≈ 2 m/s; bound 5 m/s).
+/// ×12 per round (normal forces from 0.07 N to 1e20 N) and flung the bed out of the tube.
+/// Every recorded pellet must stay inside the tube and above the floor, and no pellet may move
+/// faster than a pellet dropped from the feed height could (≈ 2 m/s; bound 5 m/s).
 #[test]
 fn the_paper_ring_bed_is_not_flung_out() {
     let pellet = Pellet::build(

@@ -1,9 +1,9 @@
 //! When is a bed settled? The kinetic-energy termination test of the
 //! paper (the total kinetic energy stops changing over a time window),
-//! made robust as physics.md §8.1 advises: with frictionless resting
-//! contacts a spinning pellet keeps its energy forever and a sliding one
-//! keeps it until it hits something, so "ΔKE ≈ 0" alone can stop a run
-//! too early. A time t is settled when, over the window [t − w, t]:
+//! made robust: with frictionless resting contacts a spinning pellet
+//! keeps its energy forever and a sliding one keeps it until it hits
+//! something, so "ΔKE ≈ 0" alone can stop a run too early. A time t is
+//! settled when, over the window [t − w, t]:
 //!
 //! 1. no pellet was added (the pellet count is final and constant),
 //! 2. the kinetic energy varies by at most `relative_tolerance` × its
@@ -85,7 +85,7 @@ pub struct SettleCriteria {
 }
 
 impl SettleCriteria {
-    /// physics.md §8.1's values: window 0.15 s, |ΔKE| ≤ 1e-3 KE, KE ≤ 1e-7·N·m·g·d,
+    /// The recommended values: window 0.15 s, |ΔKE| ≤ 1e-3 KE, KE ≤ 1e-7·N·m·g·d,
     /// speed ≤ 1 mm/s, for `pellets` pellets of mass `mass_kg` and size `size_m`.
     pub fn recommended(pellets: u32, mass_kg: f64, size_m: f64) -> Self {
         SettleCriteria {

@@ -1,4 +1,4 @@
-//! Packing benchmark (plain std::time, issues 3 and 4): 10 mm spheres, equilateral 10 mm
+//! Packing benchmark (plain std::time): 10 mm spheres, equilateral 10 mm
 //! cylinders and 10/6/10 mm Raschig rings dropped from rest as a loose random column (random
 //! orientations, bounding spheres apart) into tubes sized for a bed near 120 mm.
 //!

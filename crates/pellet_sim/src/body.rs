@@ -1,4 +1,4 @@
-//! Rigid-body state (x, q, P, L) and the quantities derived from it (physics.md §1).
+//! Rigid-body state (x, q, P, L) and the quantities derived from it.
 
 use crate::math::{Mat3, Quat, Real, Vec3};
 use serde::{Deserialize, Serialize};
@@ -81,7 +81,7 @@ impl Body {
         -self.mass * gravity.dot(&self.position)
     }
 
-    /// Applies impulse `j` at world point `p` (momentum form, physics.md §3.3).
+    /// Applies impulse `j` at world point `p` (momentum form: P and L change).
     pub fn apply_impulse(&mut self, j: &Vec3, p: &Vec3) {
         self.linear_momentum += j;
         self.angular_momentum += (p - self.position).cross(j);

@@ -1,6 +1,6 @@
 //! `pellet_sim`: the hard-contact rigid-body engine of packbed.
 //!
-//! It follows Mohammadzadeh Moghaddam et al. (2018) as designed in `physics.md`: state
+//! It follows Mohammadzadeh Moghaddam et al. (2018) as designed in `docs/engine.md`: state
 //! (x, q, P, L) integrated by the midpoint rule with quaternion renormalisation; a swept broad
 //! phase and the paper's substep rule δt = 0.2λ/v_max with a cap; contacts classified by the
 //! relative normal velocity against εp; colliding contacts resolved by passes of simultaneous

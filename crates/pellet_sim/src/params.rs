@@ -1,11 +1,13 @@
-//! Engine parameters and switches. `Default` is "paper mode" with the values of physics.md §8.1.
+//! Engine parameters and switches. `Default` is "paper mode": the paper's contact model (dynamic
+//! friction only, zero clamp, no velocity bias) with εp = εf = 5e-3 m/s and δt_cap = 2.5e-4 s,
+//! so that g·δt_cap ≤ εp/2.
 
 use crate::error::SimError;
 use crate::math::{Real, Vec3, STANDARD_GRAVITY};
 use crate::shape::positive;
 use serde::{Deserialize, Serialize};
 
-/// How a friction impulse that would reverse the sliding direction is clamped (physics.md §3.4).
+/// How a friction impulse that would reverse the sliding direction is clamped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum FrictionClamp {
     /// Replace it by the impulse that brings the tangential velocity exactly to zero.
@@ -25,10 +27,10 @@ pub enum IterativeSolver {
     Mprgp,
 }
 
-/// The approach-speed bound v_max of the substep rule δt = 0.2λ/v_max (physics.md §5.5).
+/// The approach-speed bound v_max of the substep rule δt = 0.2λ/v_max.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum ApproachBound {
-    /// physics.md's bound for any shape: |v_A − v_B| + |ω_A|ρ_A + |ω_B|ρ_B per pair,
+    /// The bound for any shape: |v_A − v_B| + |ω_A|ρ_A + |ω_B|ρ_B per pair,
     /// |v| + |ω|ρ + |g|δt_cap against a wall.
     Speed,
     /// `Speed` for pairs and walls that touch or may touch within the substep (gap ≤ δ_c + 0.2λ:
@@ -111,7 +113,8 @@ pub struct EngineParams {
     pub static_friction: bool,
     /// Clamp rule for friction that would reverse sliding.
     pub friction_clamp: FrictionClamp,
-    /// Velocity bias at resting contacts (physics.md §5.4; off = paper mode).
+    /// Velocity bias at resting contacts: their target zeroes the approach speed within the substep
+    /// and lets an open gap close without force, so they cannot drift (off = paper mode).
     pub velocity_bias: bool,
     /// Collision passes before the final e = 0 solve.
     pub collision_pass_cap: u32,

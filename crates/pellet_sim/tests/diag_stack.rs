@@ -1,8 +1,8 @@
 //! Diagnostic, not a test: a stack of NS (5) cylinders in recommended mode, logged per step of
 //! DT (1/40 s) for STEPS (80) steps: substeps, solver iterations, unconverged islands, residual,
 //! each body's |v| and |ω|, and the number of loaded contacts (FORCES=1 prints each one's normal
-//! and friction force). Found the key swap behind the recommended-mode stack failure (NOTES.md,
-//! Known problems 1):
+//! and friction force). It shows contact keys that swap between substeps, which lose their warm
+//! start (see the sort of a patch's hits in `geometry/patch.rs`). Run:
 //! `DT=2.5e-4 STEPS=100 cargo test -p pellet_sim --release --test diag_stack -- --ignored --nocapture`
 mod common;
 use common::*;

@@ -1,4 +1,4 @@
-//! T1 (free fall) and T2 (torque-free rotation) of physics.md §7, plus rotation sub-stepping in
+//! T1 (free fall) and T2 (torque-free rotation), plus rotation sub-stepping in
 //! free flight.
 
 mod common;

@@ -1,4 +1,4 @@
-//! T5: bounce sequence of a sphere dropped on the floor (physics.md §7).
+//! T5: bounce sequence of a sphere dropped on the floor.
 
 mod common;
 use common::*;

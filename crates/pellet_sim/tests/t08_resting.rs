@@ -1,4 +1,4 @@
-//! T8: resting without drift or jitter, with spheres (physics.md §7): (a) one sphere on the
+//! T8: resting without drift or jitter, with spheres: (a) one sphere on the
 //! floor, (b) a column of 10 spheres, (c) a sphere in a V-groove, (d) a lattice bed of 164
 //! spheres in a square box.
 

@@ -1,4 +1,4 @@
-//! T12: LCP unit tests (physics.md §7), Baraff vs APGD vs MPRGP vs PGS.
+//! T12: LCP unit tests, Baraff vs APGD vs MPRGP vs PGS.
 
 use nalgebra::DMatrix;
 use pellet_sim::dynamics::lcp::apgd::Apgd;
@@ -161,7 +161,7 @@ fn t12_4_random_systems_baraff_and_iterative_agree() {
             let u = sys.response(&f);
             let diff = u.iter().zip(&ub).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
             worst = worst.max(diff);
-            // Body accelerations are unique; compare those, not point forces (§4.3).
+            // Body accelerations are unique; compare those, not point forces (those need not be).
             assert!(diff <= 10.0 * TOL_R, "case {case} {name}: {diff}");
             assert!(rep.min_a >= -TOL_R);
         }

@@ -1,4 +1,4 @@
-//! T13: energy bookkeeping (physics.md §7), and determinism of a small pour.
+//! T13: energy bookkeeping, and determinism of a small pour.
 
 mod common;
 use common::*;
@@ -184,8 +184,8 @@ fn check_pour(label: &str, params: EngineParams, n: usize, seconds: f64) {
     let gap = (e0 - e.total()) - logged;
     eprintln!("T13b {label}: ledger closure error {gap:.2e} J of {:.2e} J dissipated", e0 - e.total());
     // Since the resting work is measured with the mean velocity over each substep the ledger
-    // closes to round-off (1.7e-17 J of 5.0e-3 J); with the start velocity it was off by 1.5e-4
-    // of the dissipated energy (the earlier tolerance here was 1e-3).
+    // closes to round-off (1.7e-17 J of 5.0e-3 J); with the start velocity it would be off by
+    // 1.5e-4 of the dissipated energy.
     assert!(gap.abs() <= 1e-9 * (e0 - e.total()), "the ledger does not close: {gap:.3e} J");
     for b in w.bodies() {
         assert!(w.container().contains_sphere(&b.position, 0.005 - 1e-4), "a sphere left the tube");

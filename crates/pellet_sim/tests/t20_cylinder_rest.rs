@@ -1,6 +1,6 @@
-//! Cylinders and rings at rest and in a flat drop: physics.md §7 T8 (a) for a cylinder on its
-//! side, a cylinder and a ring on their faces; a stack of 5 cylinders in a 12 mm tube (interface
-//! forces (N − k + 1) m g); T10 flat drop.
+//! Cylinders and rings at rest and in a flat drop: T8 (a), resting without drift, for a cylinder
+//! on its side, a cylinder and a ring on their faces; a stack of 5 cylinders in a 12 mm tube
+//! (interface forces (N − k + 1) m g); T10, a cylinder dropped flat onto the floor.
 
 mod common;
 use common::*;
@@ -72,14 +72,14 @@ fn t8a_cylinder_on_its_face_rests_10_s() {
 }
 
 /// Five 10 mm cylinders stacked in a 12 mm tube, 2 s: each interface carries the weight above
-/// it, in paper mode and with the velocity bias (the acceptance test).
+/// it, in paper mode and with the velocity bias (an acceptance test).
 ///
-/// Was a known failure until engine4: a tilt-and-slide mode grew from round-off because the
-/// exact solver accepted unsupported accelerations up to 1e-9 g (the toppling of a body resting
-/// on the 2-point line Baraff picks from a 4-point patch), and once the cylinders had slid
-/// ~1e-11 m, equal rims produced edge-on lateral contacts that blew the stack up at t ≈ 1.1 s.
-/// Measured after the fixes (paper / bias): interface force error 3.3e-15 / 2.1e-12, |v|
-/// 4.8e-10 / 1.1e-13 m/s, 20 contact rows. ~15 s wall in release.
+/// What it guards against: a tilt-and-slide mode grows from round-off when the exact solver
+/// accepts unsupported accelerations up to 1e-9 g (the toppling of a body resting on the 2-point
+/// line Baraff picks from a 4-point patch), and once the cylinders have slid ~1e-11 m, equal
+/// rims produce edge-on lateral contacts that blow the stack up at t ≈ 1.1 s. Measured with the
+/// exact tolerance at 1e-13 g and no edge-on contacts (paper / bias): interface force error
+/// 3.3e-15 / 2.1e-12, |v| 4.8e-10 / 1.1e-13 m/s, 20 contact rows. ~15 s wall in release.
 #[test]
 fn stack_of_five_cylinders_carries_the_weight_above() {
     stack(5, EngineParams::default(), 1e-6);
@@ -88,21 +88,21 @@ fn stack_of_five_cylinders_carries_the_weight_above() {
 
 /// The same in recommended mode (static friction, stick clamp, bias).
 ///
-/// Was a known failure (|v| 1.27e-6 m/s against the 1e-6 limit) until the cold retry of
-/// `island_solve`: at substep 47 the top interface's patch swapped a sample key, so its warm
-/// normal forces were (f, 0) instead of (f/2, f/2); the static friction of those forces was
-/// 2.5e-3 N, and the friction fixed point, contracting at ~0.85 per round, ended its 30 rounds
-/// with a change of 6e-3 m/s², leaving the stack a kick of 1e-4 m/s. Solved again from cold
-/// friction the island converges. Measured after the fix: interface force error 8.9e-14, |v|
-/// 5.7e-12 m/s, |ω| 4.7e-10 rad/s, max pen 1.3e-13 m.
+/// Without the cold retry of `island_solve` it fails (|v| 1.27e-6 m/s against the 1e-6 limit):
+/// at substep 47 the top interface's patch swaps a sample key, so its warm normal forces are
+/// (f, 0) instead of (f/2, f/2); the static friction of those forces is 2.5e-3 N, and the
+/// friction fixed point, contracting at ~0.85 per round, ends its 30 rounds with a change of
+/// 6e-3 m/s², leaving the stack a kick of 1e-4 m/s. Solved again from cold friction the island
+/// converges. Measured: interface force error 8.9e-14, |v| 5.7e-12 m/s, |ω| 4.7e-10 rad/s, max
+/// pen 1.3e-13 m.
 #[test]
 fn stack_of_five_cylinders_recommended_mode() {
     stack(5, EngineParams::recommended(), 1e-6);
 }
 
 /// Two stacked cylinders, 2 s, paper mode and bias: the smallest reproducer of the stack drift.
-/// Before engine4 |ω| grew from 4e-15 to 3e-4 rad/s in 0.45 s (paper mode); with only the
-/// lateral-contact fix it still saturated at 3e-8 rad/s (the old solver tolerance).
+/// With edge-on lateral contacts |ω| grows from 4e-15 to 3e-4 rad/s in 0.45 s (paper mode);
+/// without them but with an exact-solver tolerance of 1e-9 g it saturates at 3e-8 rad/s.
 #[test]
 fn stack_of_two_cylinders_does_not_tilt() {
     for params in [EngineParams::default(), with_bias(EngineParams::default())] {
@@ -153,7 +153,8 @@ fn stack(n: usize, params: EngineParams, vlim: f64) -> f64 {
 /// Two equal cylinders stacked with the top one offset 1e-7 m sideways and tilted by ±1e-9
 /// rad: the top's bottom rim lies just outside the lower one's lateral face at the height of
 /// its cap. That touches edge-on only; every contact between them must carry the cap normal
-/// (before engine4 round-off of the tilt let ~60 horizontal-normal rim contacts through).
+/// (with a `> 0` alignment test, round-off of the tilt lets ~60 horizontal-normal rim contacts
+/// through).
 #[test]
 fn offset_equal_rims_give_no_lateral_contacts() {
     for tilt in [1e-9, -1e-9] {

@@ -1,4 +1,5 @@
-//! Cylinders in motion: physics.md §7 T6 (block on an incline) and T11 (tipping over a rim).
+//! Cylinders in motion: T6, a cylinder sliding down a 30° incline, and T11, a cylinder tipping
+//! over a rim.
 
 mod common;
 use common::*;
@@ -112,7 +113,7 @@ fn tip(beta0_deg: f64) -> Option<(f64, f64, f64, f64)> {
 
 #[test]
 fn t11_cylinder_tipping_over_a_rim_frictionless() {
-    // physics.md §7 T11, frictionless pivot column: (β₀, time, ω, CoM vertical speed).
+    // Reference values for a frictionless pivot: (β₀, time, ω, CoM vertical speed).
     for (b0, time, om, vz) in
         [(46.0, 71.41e-3, 32.03, 0.1602), (50.0, 48.24e-3, 31.83, 0.1592), (60.0, 32.65e-3, 30.12, 0.1506)]
     {

@@ -35,19 +35,15 @@ pub fn pour(seconds: f64, seed: u64) -> (f64, f64, f64, World) {
     (pen, out, ke, w)
 }
 
-/// The acceptance test, kept as written. Before engine4, seed 7, 1.5 s: max penetration
-/// 1.41e-4 m, KE 0.22 J at the end, top centre at 0.255 m (energy injected). engine4 (commit
-/// c70f73f): 1.09e-4 m (1.09 % of d), worst excursion 9.85e-6 m, KE 1.17e-6 J, top centre
-/// 0.0507 m, 430 s wall: it settled, but failed the penetration bound. The worst penetrations
-/// were made in the narrow phase, not by missed sampling: an edge-face switch that measured a
-/// rim's depth along the deeper lateral face (1.06e-4 m read, 3.7e-6 m true) and a patch
-/// reduction that dropped a touching refined rim point (it then sank 8.3e-5 m in one substep);
-/// NOTES.md "Known problems" 2. After both fixes, measured 2026-11-23 (branch `pen`): max
-/// penetration 2.92e-5 m (0.29 % of d), worst excursion 1.01e-5 m, KE 6.60e-7 J, top centre
-/// 0.0451 m, 402 s wall in release: it passed, but was too slow for `make test`. After the cold
-/// retry of the friction fixed point (`island_solve`), measured 2026-11-23: max penetration
-/// 2.88e-5 m, worst excursion 2.17e-5 m, KE 8.8e-7 J, top centre 0.0469 m, 187 s wall in release
-/// with three other jobs on the two cores, so it runs in `make test` again.
+/// The acceptance test of the non-spherical engine: 20 cylinders and 20 rings poured, seed 7,
+/// 1.5 s, must settle with penetration below 1 % of d. The worst penetrations are made in the
+/// narrow phase, not by missed sampling: an edge-face switch that measures a rim's depth along
+/// the deeper lateral face (1.06e-4 m read, 3.7e-6 m true; see `FACE_SWITCH` in
+/// `geometry/contact_sampled.rs`) and a patch reduction that drops a touching refined rim point
+/// (it then sinks 8.3e-5 m in one substep; see `geometry/patch.rs`); with those two, the pour
+/// reaches 1.09e-4 m (1.09 % of d). Measured: max penetration 2.88e-5 m, worst excursion
+/// 2.17e-5 m, KE 8.8e-7 J, top centre 0.0469 m, 187 s wall in release with three other jobs on
+/// the two cores.
 /// Alone: `cargo test -p pellet_sim --release --test t23_pour_shapes -- --nocapture`.
 #[test]
 fn twenty_cylinders_and_twenty_rings_settle() {

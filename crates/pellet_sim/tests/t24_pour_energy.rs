@@ -1,34 +1,27 @@
 //! Energy of a small mixed pour (10 cylinders and 10 Raschig rings, 10 mm, 40 mm tube, paper
 //! mode, 1 s): resting friction never adds energy, and the total energy never rises beyond the
-//! logged removals (physics.md §7 T13 b for non-spherical pellets).
+//! logged removals (T13 b of `t13_energy.rs`, for non-spherical pellets).
 //! And the friction energy guard (`dynamics/friction_guard.rs`) on a scene where it must act.
 
 mod common;
 use common::*;
 use pellet_sim::{BodyType, Container, EngineParams, Quat, Vec3};
 
-/// Before engine4's coupled friction guard, unconverged solves of one ~120-row island at
-/// t ≈ 0.567 s returned normal forces up to 5e2 N (the pellets weigh 0.015 N) and dynamic
-/// friction μ f reversed the slips: the resting friction did +1.7 J of work in one substep and
-/// the step's `removed_by_friction` was −8.0e-2 J (the bed held 3.5e-3 J). Measured after the
-/// guard (with the normal re-solve after a drop): every step's friction removal ≥ 0 (smallest
-/// 0 J), 109 friction forces dropped, total energy 1.01e-2 → 3.49e-3 J.
-/// After the patch-ordering and normal-cone fixes that came after the guard, this bed no longer
-/// reached the unconverged island (0 forces dropped, and it passed with `GUARD_ROUNDS = 0`).
-/// Since the patch reduction prefers touching points (branch `pen`, NOTES.md problem 2) more
-/// redundant touching points carry dynamic friction, each clamped with its own diagonal only,
-/// and the guard acts again: measured 2026-11-23, 2705 forces dropped, E 1.01e-2 → 3.92e-3 J,
-/// smallest friction removal 0 J (84 drops with only the edge-face fix); with `GUARD_ROUNDS = 0`
-/// it fails again (one step's friction removal −6.3e-4 J, E ends at 3.69e-3 J). The small
-/// deterministic test of the guard is `friction_guard_drops_...` below.
+/// Without the friction guard, unconverged solves of one ~120-row island at t ≈ 0.567 s
+/// returned normal forces up to 5e2 N (the pellets weigh 0.015 N) and dynamic friction μ f
+/// reversed the slips: the resting friction did +1.7 J of work in one substep and the step's
+/// `removed_by_friction` was −8.0e-2 J (the bed held 3.5e-3 J). The patch reduction prefers
+/// touching points, so redundant touching points carry dynamic friction, each clamped with its
+/// own diagonal only, and the guard acts: with `GUARD_ROUNDS = 0` the test fails (one step's
+/// friction removal −6.3e-4 J, E ends at 3.69e-3 J). The small deterministic test of the guard
+/// is `friction_guard_drops_...` below.
 ///
-/// Run to 1 s (it was 0.6 s): with the engine of 2026-11-23 one substep at t = 0.731 s of this
-/// pour let the *normal* forces of an unconverged island do +4.0e-3 J of work (residual 15.7
-/// m/s², forces to 28 N; NOTES.md problem 2, "still open"). With the engine of f0e5cb4
-/// (2026-11-25) the resting normal work is negative in every step that has any (−2.7e-6 to
-/// −1.6e-5 J per 25 ms step), so the total energy never rises beyond the logged collision,
-/// friction and projection removals: largest rise 1.8e-15 J; 133 friction forces dropped by the
-/// guard; E 1.01e-2 → 3.90e-3 J. ~15 s wall in release.
+/// The run lasts 1 s to cover t = 0.731 s, a substep whose unconverged island can make the
+/// *normal* forces do positive work (+4.0e-3 J with a less exact solve; residual 15.7 m/s²,
+/// forces to 28 N). Measured: the resting normal work is negative in every step that has any
+/// (−2.7e-6 to −1.6e-5 J per 25 ms step), so the total energy never rises beyond the logged
+/// collision, friction and projection removals: largest rise 1.8e-15 J; 133 friction forces
+/// dropped by the guard; E 1.01e-2 → 3.90e-3 J. ~15 s wall in release.
 #[test]
 fn resting_friction_never_adds_energy_in_a_mixed_pour() {
     let mut w = mixed_pour(20, 7);
@@ -59,9 +52,9 @@ fn resting_friction_never_adds_energy_in_a_mixed_pour() {
 /// dynamic). The floor's normal force on the foot pushes the foot back (the pin starts to fall
 /// the other way), which the per-contact clamp of dynamic friction does not see: it limits
 /// μ f by friction's own effect on the slip only. Normal force and friction together reverse
-/// the slip within the substep, so μ f would do positive work. Measured 2026-11-23: the guard
-/// drops that one force (1 drop in the first substep) and every substep's friction removal is
-/// ≥ 0; with `GUARD_ROUNDS = 0` there are no drops and the friction removal of that substep is
+/// the slip within the substep, so μ f would do positive work. Measured: the guard
+/// drops that one force (1 drop in the first substep) and every substep's friction removal is ≥
+/// 0; with `GUARD_ROUNDS = 0` there are no drops and the friction removal of that substep is
 /// −1.3e-11 J (positive work; the pin's potential energy scale m g h is ~2.5e-5 J, round-off
 /// ~1e-20 J). Runs in milliseconds.
 #[test]

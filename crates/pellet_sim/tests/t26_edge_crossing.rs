@@ -2,7 +2,7 @@
 //! pellets jiggle by micrometres, as in a bed at rest. The rim's refined point (the deepest
 //! along the rim) lies where the two face depths of the edge are equal, so the shallower face's
 //! normal, which the Euclidean SDF gives, flipped by 90° with round-off from substep to substep,
-//! and wide ring beds never settled (engine NOTES, 2026-11-25 eleventh session). The edge–edge
+//! and wide ring beds never settled. The edge–edge
 //! normal is continuous there.
 
 use pellet_sim::geometry::narrow_phase::{collide_pair, Pellet};

@@ -1,6 +1,6 @@
-//! The collision phase (physics.md §3.3–3.5, §5.6): passes of simultaneous normal impulses
-//! over the contacts colliding at that moment, Coulomb friction per point with the stick or
-//! zero clamp, and a final e = 0 solve when the pass cap is reached.
+//! The collision phase of the force-level stepper (`docs/engine.md`, "Time stepping"): passes of
+//! simultaneous normal impulses over the contacts colliding at that moment, Coulomb friction per
+//! point with the stick or zero clamp, and a final e = 0 solve when the pass cap is reached.
 
 use super::by_body::ByBody;
 use super::islands::build_islands;
@@ -43,8 +43,9 @@ fn apply(bodies: &mut [Body], c: &Contact, j: &Vec3) {
     }
 }
 
-/// The friction impulse of §3.4 for a contact whose normal impulse `p` was just applied.
-/// `slip` is the tangential velocity before the pass; returns None when no friction acts.
+/// The Coulomb friction impulse (stick or zero clamp, `FrictionClamp`) for a contact whose
+/// normal impulse `p` was just applied. `slip` is the tangential velocity before the pass;
+/// returns None when no friction acts.
 fn friction_impulse(
     c: &Contact,
     bodies: &[Body],

@@ -5,7 +5,7 @@
 //! Why: the fixed point of `island_solve` alternates a full normal solve with a few sweeps of
 //! static friction at fixed normal forces. On islands of ~1300 rows (a ring bed of 98 rings
 //! in a 40.45 mm tube) its 10 rounds × 5 sweeps end far from the answer every substep, and the
-//! bed creeps (NOTES, 2026-11-24). Coupled in one sweep, a change of a normal force reaches the
+//! bed creeps. Coupled in one sweep, a change of a normal force reaches the
 //! friction bound of the same contact at once, and each sweep costs one pass over the rows, so
 //! the cost is bounded by the sweep cap. `island_solve` uses it only on islands whose
 //! frictional contacts are all static, so dynamic (sliding) entries are left as given.

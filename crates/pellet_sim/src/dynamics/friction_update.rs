@@ -1,6 +1,6 @@
-//! Friction at resting contacts for fixed normal forces (physics.md §4, the resting phase):
-//! dynamic friction −μ f along the slip at contacts slipping faster than εf, and static
-//! friction (a switch) by Gauss–Seidel on the tangential rows of the others.
+//! Friction at resting contacts for fixed normal forces (the resting phase of the force-level
+//! stepper): dynamic friction −μ f along the slip at contacts slipping faster than εf, and
+//! static friction (a switch) by Gauss–Seidel on the tangential rows of the others.
 
 use super::friction_scatter::FrictionScatter;
 use super::rows::{Row, RowSystem};
@@ -9,7 +9,7 @@ use crate::params::{EngineParams, FrictionClamp};
 
 /// Gauss–Seidel sweeps of the static-friction rows per call of [`update_static`]. The fixed
 /// point calls this every round, starting from the previous round's friction, so a few sweeps
-/// per call suffice. Measured 2026-11-23, CPU time of
+/// per call suffice. Measured, CPU time of
 /// `pack --pellet s.pellet --tube-diameter 40 --count 60 --seed 1|2|3` (10 mm spheres): 20
 /// sweeps 16.6 / 15.5 / 21.3 s, 5 sweeps 10.3 / 12.6 / 14.0 s. Starting the sweeps from last
 /// substep's friction as well (warm by contact key) gained another ~10 % (9.5 / 11.5 / 12.5 s

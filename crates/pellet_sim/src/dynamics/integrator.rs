@@ -1,5 +1,5 @@
 //! The paper's midpoint rule with quaternion renormalisation, and rotation sub-stepping so that
-//! |ω|·δt stays small (physics.md §3.1).
+//! |ω|·δt stays small.
 
 use crate::body::Body;
 use crate::math::{Quat, Real, Vec3};

@@ -19,14 +19,14 @@ const FRICTION_ROUNDS_ITERATIVE: usize = 10;
 /// point stops as soon as the contraction of its last round, kept up for the rounds left, would
 /// not bring the change under the stop test. In a pour the fixed point contracts at ≈ 0.9 per
 /// round from changes of 0.3–7 m/s² (1e3 tol_r) and ends unconverged whatever the cap; its
-/// friction is carried to the next substep, which goes on from there. Measured (NOTES,
-/// 2026-11-24 fourth session): the default bed's porosity over seeds (40 spheres, D = 40 mm) was
-/// 0.4528, 0.4564, 0.4600 and 0.4533 (standard errors 0.002–0.004) with a fixed 3, 5, 10 and 20
-/// rounds, no trend; a one-column pour (D = 56 mm, 5 s) took 11.5, 13.8 and 19.8 s of CPU with
-/// 3, 5 and 10. Islands whose contacts all stick keep the whole cap: there the fixed point can
-/// converge, and where it does not the bed creeps (a fixed 5 left the 100-sphere bench with 556
-/// unconverged islands against 3; stopping them early let the paper's 33.65 mm cylinder bed creep
-/// for 22 s, while with the cap it settles at 4.16 s).
+/// friction is carried to the next substep, which goes on from there. Measured: the default bed's
+/// porosity over seeds (40 spheres, D = 40 mm) was 0.4528, 0.4564, 0.4600 and 0.4533 (standard
+/// errors 0.002–0.004) with a fixed 3, 5, 10 and 20 rounds, no trend; a one-column pour (D = 56
+/// mm, 5 s) took 11.5, 13.8 and 19.8 s of CPU with 3, 5 and 10. Islands whose contacts all stick
+/// keep the whole cap: there the fixed point can converge, and where it does not the bed creeps
+/// (a fixed 5 left the 100-sphere bench with 556 unconverged islands against 3; stopping them
+/// early let the paper's 33.65 mm cylinder bed creep for 22 s, while with the cap it settles at
+/// 4.16 s).
 const FRICTION_MIN_ROUNDS_ITERATIVE: usize = 3;
 /// The friction fixed point stops when it changes b by less than this times the solver tolerance.
 const FRICTION_TOL_FACTOR: Real = 0.1;
@@ -178,7 +178,7 @@ impl IslandProblem<'_> {
             Some(d) => d,
             None => sys,
         };
-        // Baraff's tolerance on a_i ≥ 0 is 1e-13 g (it was 1e-9 g): an unsupported
+        // Baraff's tolerance on a_i ≥ 0 is 1e-13 g: an unsupported
         // acceleration below it is accepted, and a body resting on the 2-point line Baraff
         // picks from a flat 4-point patch can topple about that line unseen. In a 2-stack
         // that mode grew ×3 per 25 ms until its point accelerations reached the tolerance
@@ -283,7 +283,7 @@ impl IslandProblem<'_> {
             // unconverged: its b is itself off by about the last round's change, so it gets the
             // rounds' tolerance. Islands near rest keep the tight solve, which is what brings a
             // bed to rest (loosened for every sliding island, two of eight small cylinder beds
-            // crept for 30 s; NOTES, 2026-11-25).
+            // crept for 30 s).
             if last_tol > tol {
                 let final_tol = if fast_sliding { tol.max(INEXACT_ROUND_FACTOR * change) } else { tol };
                 solve(&b, &mut sol, final_tol);
@@ -312,7 +312,7 @@ impl IslandProblem<'_> {
         // (`coupled_pgs`). Only there: the beds that crept (rings in a 40.45 mm tube) are all
         // static, while in a pour, where contacts slide, the coupled sweeps converge slowly
         // (100-row sphere islands hit 1000 sweeps) and the fixed point's answer settles the
-        // bed anyway (measured: NOTES, 2026-11-24 second session).
+        // bed anyway.
         let all_static = !fric.is_empty() && fric.iter().all(|x| x.kind == Friction::Static);
         if !exact && all_static && change > friction_tol && p.coupled_friction_sweeps > 0 {
             let problem =

@@ -9,7 +9,7 @@
 //!
 //! Why: on the jammed piles of the paper's N = 6.98 cylinder beds the plain sweeps converge
 //! slowly (a median of 138 sweeps where they converge, islands of ~3700 rows), and that polish
-//! was most of such a bed's time (NOTES, 2026-12-02 nineteenth session). The step follows a
+//! was most of such a bed's time. The step follows a
 //! pair rather than each sweep because the pair is one symmetric Gauss–Seidel iteration, the
 //! same operator every time: after every single sweep (forward and backward alternating) a
 //! 30-body frictional stack took 5424 sweeps against 7901 without the step; after each pair,

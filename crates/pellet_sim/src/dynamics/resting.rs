@@ -1,7 +1,7 @@
-//! The resting phase (physics.md §4): normal forces from the LCP a = A f + b over each island,
-//! with dynamic Coulomb friction at contacts slipping faster than εf and, as a switch, static
-//! friction at contacts slipping slower. Friction enters the normal problem through b, and the
-//! two are iterated to a fixed point (exact in one round when friction does not couple to the
+//! The resting phase of the force-level stepper: normal forces from the LCP a = A f + b over each
+//! island, with dynamic Coulomb friction at contacts slipping faster than εf and, as a switch,
+//! static friction at contacts slipping slower. Friction enters the normal problem through b, and
+//! the two are iterated to a fixed point (exact in one round when friction does not couple to the
 //! normal accelerations, e.g. a sphere on a plane).
 
 use super::friction_update::{Friction, FrictionEntry};
@@ -77,7 +77,7 @@ fn free_point_accel(k: &BodyRates, r: &Vec3, g: &Vec3) -> Vec3 {
     g + k.alpha.cross(r) + k.w.cross(&k.w.cross(r))
 }
 
-/// b_i of a normal row: the gap's second derivative without contact forces (physics.md §4.2).
+/// b_i of a normal row: the gap's second derivative without contact forces.
 fn normal_rhs(c: &Contact, rates: &[BodyRates], g: &Vec3) -> Real {
     let a = &rates[c.a];
     match c.kinematics {
@@ -259,11 +259,11 @@ pub fn resting_phase(
 ///
 /// Why: the static-friction sweeps of one substep (5 per fixed-point round, ≤ 10 rounds) move
 /// a correction about one contact per sweep, and a bed held up by wall friction is tens of
-/// contacts deep; from the last answer the substeps add up. Measured before the patch-normal
-/// fix (NOTES, 2026-11-24): 40 cylinders in a 40 mm tube settle at 4.35 s in 188 s of CPU
-/// (8.12 s, 533 s from zero), 20 rings at 1.62 s (not settled in 6 s). Small, exactly solved
-/// islands start from zero: with a warm start there, 12 spheres in a 25 mm tube never settled
-/// (NOTES, 2026-11-23 third session).
+/// contacts deep; from the last answer the substeps add up. Measured with patches that merged
+/// normals within 11.5° (cos 0.98, see `PATCH_COS`): 40 cylinders in a 40 mm tube settle at
+/// 4.35 s in 188 s of CPU (8.12 s, 533 s from zero), 20 rings at 1.62 s (not settled in 6 s).
+/// Small, exactly solved islands start from zero: with a warm start there, 12 spheres in a
+/// 25 mm tube never settled.
 fn warm_static_friction(fric: &[FrictionEntry], warm: &[(Real, Vec3)], iterative: bool) -> Vec<(Real, Real)> {
     fric.iter()
         .map(|x| {

@@ -1,5 +1,5 @@
 //! Constraint rows J_i = [d, r_A×d | −d, −r_B×d] of contact points and the matrix-free operator
-//! A = J M⁻¹ Jᵀ over an island (physics.md §4.1). J is never formed as a matrix.
+//! A = J M⁻¹ Jᵀ over an island. J is never formed as a matrix.
 
 use super::lcp::LcpMatrix;
 use super::linear_product::LinearProduct;
@@ -27,7 +27,7 @@ pub struct Row {
     pub diag: Real,
     /// 1 / A_ii, for the Gauss–Seidel updates f − a / A_ii of the friction sweeps and the
     /// coupled polish: there the division sat on the sweeps' dependency chain (a
-    /// high-friction cylinder bed took 20 % longer with it; engine NOTES, eighteenth session).
+    /// high-friction cylinder bed took 20 % longer with it).
     pub inv_diag: Real,
     /// The row's torques are zero to round-off (a normal through both centres, as at every
     /// sphere contact): its products skip the angular half.
@@ -301,7 +301,9 @@ pub fn relative_velocity_from(c: &Contact, vel: &[Vec3], omega: &[Vec3]) -> Vec3
     }
 }
 
-/// The collision matrix K of a contact (physics.md §3.3).
+/// The collision matrix K of a contact: the change of the relative velocity at the contact per
+/// unit impulse, Σ (I/m − R I⁻¹ R) over its bodies, R the cross-product matrix of the
+/// body's lever.
 pub fn collision_matrix(c: &Contact, bodies: &[Body]) -> Mat3 {
     use crate::math::skew;
     let ba = &bodies[c.a];

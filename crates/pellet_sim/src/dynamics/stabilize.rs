@@ -1,4 +1,4 @@
-//! Post-stabilisation (physics.md §5.2): project positions so that every gap is ≥ −s_lop, as
+//! Post-stabilisation: project positions so that every gap is ≥ −s_lop, as
 //! nonlinear Gauss–Seidel with inverse-mass weighting. Velocities are left alone, so no kinetic
 //! energy is injected; the potential-energy change is reported for the ledger.
 

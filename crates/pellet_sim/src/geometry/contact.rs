@@ -13,7 +13,7 @@ pub enum Counterpart {
     Wall(WallId),
 }
 
-/// How the second time derivative of the gap is formed (physics.md §4.2).
+/// How the second time derivative of the gap is formed (the b of the resting LCP).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GapKinematics {
     /// Exact sphere–sphere gap |x_A − x_B| − R_A − R_B (centre distance given).
@@ -28,10 +28,10 @@ pub enum GapKinematics {
         /// The centre's distance from the axis, m.
         rho: Real,
     },
-    /// A body-fixed point on a face whose normal is fixed in `owner`: the vertex–face form of
-    /// physics.md §4.2, b = n·(ā_A(r_A) − ā_B(r_B)) + 2 ṅ·(ṗ_A − ṗ_B) with ṅ = ω_owner × n.
+    /// A body-fixed point on a face whose normal is fixed in `owner`: the vertex–face form,
+    /// b = n·(ā_A(r_A) − ā_B(r_B)) + 2 ṅ·(ṗ_A − ṗ_B) with ṅ = ω_owner × n.
     /// For points on curved faces (lateral surfaces) this leaves out the O(|u_t|²/ρ) curvature
-    /// term, as §4.2 allows; post-stabilisation removes what is left.
+    /// term, second order in the slip speed; post-stabilisation removes what is left.
     Point {
         /// The body the normal is attached to.
         owner: NormalOwner,
@@ -55,7 +55,7 @@ pub enum NormalOwner {
     Fixed,
 }
 
-/// Persistent identity of a contact point, for warm starting (physics.md §6.6).
+/// Persistent identity of a contact point, for warm starting.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct ContactKey {
     /// Body A.

@@ -1,8 +1,8 @@
-//! Sampled contacts between two non-spherical pellets (physics.md §6.2–6.4): each body's surface
-//! samples go into the other's signed distance (both ways), clusters are culled by the Lipschitz
-//! bound first, rim samples near the other body are refined along the rim angle (rim–rim
-//! crossings), and the hits are grouped into patches of one normal reduced to ≤ 4 points.
-//! Also: a sphere against any shape (its centre in the shape's SDF, one point).
+//! Sampled contacts between two non-spherical pellets (`docs/engine.md`, "Contact generation"):
+//! each body's surface samples go into the other's signed distance (both ways), clusters are
+//! culled by the Lipschitz bound first, rim samples near the other body are refined along the rim
+//! angle (rim–rim crossings), and the hits are grouped into patches of one normal reduced to ≤ 4
+//! points. Also: a sphere against any shape (its centre in the shape's SDF, one point).
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
 use super::contact_lateral::{lateral_hit, on_outer_side, redundant_hit, LATERAL};
@@ -34,7 +34,7 @@ const EDGE_EPS: Real = 1e-9;
 /// with the sample's own outward normals. A hit at ~90° to the cone is a surface touching
 /// edge-on: B's bottom rim lying 1e-9–1e-7 m radially outside A's equal top rim gives A's
 /// lateral normal (horizontal) while B's cap faces straight down; those spurious lateral rows
-/// at every stacked interface were the trigger of the 5-stack blow-up (NOTES.md, problem 1).
+/// at every stacked interface made a stack of 5 cylinders blow up.
 /// Round-off made the old `> 0` test pass them (alignment ~1e-7).
 const MIN_ALIGN: Real = 0.1;
 /// Golden-section iterations of the rim refinement (interval × 0.618²⁴ ≈ 1e-5).
@@ -136,8 +136,8 @@ impl<'a> OneWay<'a> {
             // A face that src's surface allows keeps the SDF's (shallowest) depth unless the
             // other face is as shallow up to round-off: a rim inside dst near dst's edge has both
             // faces in its cone, and taking the better-aligned, deeper face measured up to
-            // FACE_SWITCH · R_b = 1.4e-4 m of penetration that was not there (t23's 1.06e-4 m:
-            // true depth 3.7e-6 m, NOTES.md problem 2).
+            // FACE_SWITCH · R_b = 1.4e-4 m of penetration that was not there (1.06e-4 m in the
+            // pour of `tests/t23_pour_shapes.rs`: true depth 3.7e-6 m).
             let tie = if align > MIN_ALIGN { EDGE_EPS * r_dst } else { FACE_SWITCH * r_dst };
             if phi2 >= phi - tie && a2 > align {
                 (phi, g, align) = (phi2, g2, a2);
@@ -199,7 +199,7 @@ impl<'a> OneWay<'a> {
     /// Rings only: settled cylinder beds flip too (270 and 568 normals in 400 substeps on two
     /// of them) but come to rest anyway, and with the edge–edge normal at cylinder edges two of
     /// four creep-prone cylinder beds of the paper study ended with a rocking pellet instead of
-    /// settling (NOTES, 2026-11-25 eleventh session).
+    /// settling.
     fn edge_edge(&self, s: &Vec3, i: usize, pd: &Vec3, cone: &(Vec3, Vec3)) -> Option<(Vec3, Real)> {
         if self.src.geom.rim_of[i] == u32::MAX || !matches!(self.dst.shape, ShapeDesc::HollowCylinder { .. }) {
             return None;

@@ -1,4 +1,5 @@
-//! Contacts of non-spherical pellets with the static walls (physics.md §6.5).
+//! Contacts of non-spherical pellets with the static walls (`docs/engine.md`, "Contact
+//! generation").
 //!
 //! Cylinders and rings, analytically: against a plane, per outer rim the lowest point plus the
 //! three rim points 90°, 180° and 270° from it (a cap lying flat then gives a 4-point support

@@ -1,4 +1,5 @@
-//! Closed-form sphere–sphere contact (physics.md §6.2): one point, exact gap and normal.
+//! Closed-form sphere–sphere contact (`docs/engine.md`, "Contact generation"): one point, exact
+//! gap and normal.
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics};
 use crate::math::{Real, Vec3};

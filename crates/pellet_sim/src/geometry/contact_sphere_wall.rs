@@ -1,5 +1,5 @@
 //! Closed-form contacts of a sphere with the static walls: floor, tube side wall (seen from
-//! inside), lid and extra planes (physics.md §6.2, §6.5).
+//! inside), lid and extra planes (`docs/engine.md`, "Contact generation").
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics};
 use crate::container::{Container, WallId};

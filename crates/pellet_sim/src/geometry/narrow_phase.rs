@@ -1,4 +1,5 @@
-//! The contact-generation interface: dispatch over shape kinds (physics.md §6.2).
+//! The contact-generation interface: dispatch over shape kinds (`docs/engine.md`, "Contact
+//! generation").
 //!
 //! Sphere pairs and sphere–wall contacts are closed form; a sphere against any other shape puts
 //! its centre into that shape's SDF; every other pair is sampled both ways against the SDFs

@@ -1,12 +1,13 @@
 //! Candidate contact points (hits) grouped into patches of one normal, and each patch reduced
-//! to ≤ 4 points (physics.md §6.4): shared by the pellet–pellet and pellet–wall narrow phases.
+//! to ≤ 4 points (`docs/engine.md`, "Contact generation"): shared by the pellet–pellet and
+//! pellet–wall narrow phases.
 
 use super::contact::NormalOwner;
 use super::samples::cone_alignment;
 use crate::math::{Real, Vec3};
 
-/// Normals closer than this (cosine, ~1.1°) share a patch and its one normal (physics.md §6.4).
-/// physics.md suggests 0.98 (11.5°), grouping by proximity as well; we group by normal only.
+/// Normals closer than this (cosine, ~1.1°) share a patch and its one normal. Hits
+/// are grouped by normal only, not by proximity as well.
 /// With 0.98, hits up to 11.5° apart (along a curved surface, or at separate places) made one
 /// patch reduced to ≤ 4 points, and the touching points the reduction dropped sank while the
 /// pellets slid; each was the deepest, so kept, in the next substep, and position projection
@@ -62,7 +63,7 @@ pub(crate) struct Hit {
 /// does not flip on round-off: two equal stacked rims give A's and B's samples at the same
 /// place with gaps differing by ~1e-16 m, and an exact-gap order swapped the patch's point (a
 /// new key, no warm start) from one substep to the next; in recommended mode that kicked a
-/// 5-stack to |v| 1.2e-4 m/s (1.3e-6 with the rounding, NOTES.md problem 1).
+/// 5-stack to |v| 1.2e-4 m/s (1.3e-6 with the rounding).
 ///
 /// The keys are computed once and sorted with the hits' indices as the last key (the order of
 /// a stable sort, bit for bit), then the hits are moved once: sorting the ~200-byte hits with
@@ -115,7 +116,7 @@ pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
     out
 }
 
-/// Reduces a patch to ≤ 4 points (physics.md §6.4): the deepest, the farthest from it, the one
+/// Reduces a patch to ≤ 4 points: the deepest, the farthest from it, the one
 /// making the largest triangle, and the one adding the most area outside that triangle.
 ///
 /// Each pick is made first among the points within `band` of the patch's smallest gap (the ones
@@ -124,7 +125,8 @@ pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
 /// a pour), and picking by area alone kept rim samples 1.1–1.4e-4 m away while dropping the
 /// refined rim point 3.5e-7 m away that was the patch's second real contact; the pellet then
 /// rotated about the one kept contact and that rim point sank 8.3e-5 m within one substep
-/// (t23, NOTES.md problem 2). A flat patch has all its points in the band: unchanged.
+/// (the pour of `tests/t23_pour_shapes.rs`). A flat patch has all its points in the band:
+/// unchanged.
 ///
 /// `kept` (sorted features) are the points the pair had in the last step: each pick takes one
 /// of them when it does nearly as well as the best (`KEEP_SCORE`, `KEEP_DEPTH`).

@@ -1,5 +1,6 @@
-//! Body-frame surface samples of each pellet type (physics.md §6.4), grouped into clusters for
-//! the Lipschitz cull, and the rim circles used for rim–rim refinement and the wall fast paths.
+//! Body-frame surface samples of each pellet type (`docs/engine.md`, "Contact generation"),
+//! grouped into clusters for the Lipschitz cull, and the rim circles used for rim–rim
+//! refinement and the wall fast paths.
 //!
 //! Cylinders and rings get exact samples on their rims, caps and lateral surfaces (the pellet
 //! file's Loop-subdivided mesh rounds the rims off, so its vertices are not on the true edges);
@@ -9,7 +10,7 @@ use crate::math::{axial_distance, Real, Vec3};
 use crate::shape::{BodyType, ShapeDesc};
 use std::f64::consts::TAU;
 
-/// Samples per rim circle of the outer radius (spacing ≈ 0.025 d for D = H, physics.md §6.4).
+/// Samples per rim circle of the outer radius (spacing ≈ 0.025 d for D = H).
 pub const RIM_SAMPLES: usize = 128;
 
 /// A rim circle: radius `radius` in the plane z = `z` (body frame).

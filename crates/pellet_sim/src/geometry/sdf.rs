@@ -1,4 +1,4 @@
-//! Signed distances with gradients in the body frame (physics.md §6.3): the closed forms of the
+//! Signed distances with gradients in the body frame: the closed forms of the
 //! paper's three shapes and a sampled grid for any other shape (built outside this crate, e.g.
 //! from parry3d's distance to the pellet's triangle mesh, and handed over as plain data so that
 //! the world stays serialisable and this crate free of mesh queries).
@@ -127,7 +127,8 @@ fn trilinear(c: &[Real; 8], fx: Real, fy: Real, fz: Real) -> (Real, Real, Real, 
     (x00, x10, x01, x11, y0, y1, lerp(y0, y1, fz))
 }
 
-/// `sd(q)` of physics.md §6.3 with its gradient in (radial, axial) components.
+/// The signed distance to the cross-section's rectangle at a point whose offsets past its side
+/// and its cap are (qx, qy), with its gradient in (radial, axial) components.
 fn sd_box2(qx: Real, qy: Real) -> (Real, Real, Real) {
     if qx > 0.0 && qy > 0.0 {
         let d = axial_distance(qx, qy);

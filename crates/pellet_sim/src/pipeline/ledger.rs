@@ -1,5 +1,5 @@
-//! Energy bookkeeping (physics.md §7 T13): kinetic and potential energy, and what collisions,
-//! friction and position projection removed.
+//! Energy bookkeeping (checked by `tests/t13_energy.rs`): kinetic and potential energy, and what
+//! collisions, friction and position projection removed.
 
 use serde::{Deserialize, Serialize};
 

@@ -1,5 +1,5 @@
 //! Which pairs and walls are near, how fast they can close, and how long the rest may fly
-//! freely: the inputs of the substep rule δt = min(0.2λ/v_max, δt_cap, t_safe) (physics.md §5.5).
+//! freely: the inputs of the substep rule δt = min(0.2λ/v_max, δt_cap, t_safe).
 
 use super::world::World;
 use crate::body::Body;
@@ -46,12 +46,12 @@ impl World {
         // ω·ρ per body, once: per pair end (ω = I⁻¹L through R I⁻¹ Rᵀ) it was 3 % of a pour.
         let spins: Vec<Real> = self.bodies.iter().map(|b| b.angular_velocity().norm() * b.bounding_radius).collect();
         let spin = |k: usize| spins[k];
-        // Pairs that touch now or may within the substep keep physics.md's bound, which also
+        // Pairs that touch now or may within the substep keep the speed bound (`Speed`), which also
         // limits how far their contacts slip per substep (sliding and spin). Measured with 40
         // spheres in a 40 mm tube, seeds 1–6: the closing speed alone for touching spheres too
-        // packed them to a mean porosity of 0.4456, against 0.4674 with physics.md's bound and
+        // packed them to a mean porosity of 0.4456, against 0.4674 with the speed bound and
         // 0.468 with the closing speed alone at δt_cap/4, so it under-resolved friction. With
-        // this split, seeds 1–18: 0.4583 ± 0.0039 against 0.4602 ± 0.0036 (physics.md's bound).
+        // this split, seeds 1–18: 0.4583 ± 0.0039 against 0.4602 ± 0.0036 (the speed bound).
         let touching = self.params.contact_distance_factor * self.reference_size() + 0.2 * lambda;
         let mut p = Proximity { pairs: Vec::new(), walls: Vec::new(), t_safe: Real::INFINITY, v_max: 0.0 };
         for &(i, j) in broad.overlapping_pairs(&centres, &radii, PAIR_SKIN_FACTOR * lambda) {

@@ -1,7 +1,7 @@
-//! The time-stepping skeleton of physics.md §2: swept broad phase, free flight when nothing is
-//! near, otherwise substeps of δt = min(0.2λ/v_max, cap, time to the next proximity entry) with
-//! collision phase, resting phase, midpoint integration, position projection and
-//! rewind-and-halve on excess penetration.
+//! The force-level stepper's time-stepping skeleton (`docs/engine.md`, "Time stepping"): swept
+//! broad phase, free flight when nothing is near, otherwise substeps of δt = min(0.2λ/v_max, cap,
+//! time to the next proximity entry) with collision phase, resting phase, midpoint integration,
+//! position projection and rewind-and-halve on excess penetration.
 
 use super::ledger::EnergyLedger;
 use super::proximity::Proximity;
@@ -357,9 +357,9 @@ impl World {
                 rot_steps += advance(b, &f, &w.1, dt, max_rot) as u64;
             }
             // Work of the resting forces: force times the mean relative velocity over the
-            // substep, exact for a constant force and a velocity that changes linearly (the
-            // normal part used the start velocity until 2026-11-25: twice the energy a resting
-            // force takes out of a contact it brings to rest, so the ledger did not close).
+            // substep, exact for a constant force and a velocity that changes linearly (the start
+            // velocity would count twice the energy a resting force takes out of a contact it
+            // brings to rest, and the ledger would not close).
             let (mut friction_work, mut normal_work) = (0.0, 0.0);
             // Each body's ω = I⁻¹L once, not at every contact end (R I⁻¹ Rᵀ per call was 3 % of
             // a cylinder bed); the same arithmetic as `relative_velocity`, so the same bits. The

@@ -390,8 +390,8 @@ fn contact_pairs(contacts: &[Contact]) -> u64 {
 }
 
 /// Each contact's memory from the last step (`memory` sorted by key), by key. Matching a
-/// contact whose key changed to its pair's nearest remembered point instead was tried and made
-/// cylinder beds settle later (`docs/engine.md`, "Alternatives").
+/// contact whose key changed to its pair's nearest remembered point instead makes cylinder beds
+/// settle later (`docs/engine.md`, "Alternatives tried, not kept").
 fn remembered(memory: &[WarmImpulse], contacts: &[Contact]) -> Vec<Memory> {
     contacts
         .iter()

@@ -220,7 +220,7 @@ impl World {
 
     /// Nominal pellet size for the penetration bound: twice the smallest
     /// [`crate::ShapeDesc::fit_radius`] over the types (the diameter; the same as
-    /// [`World::reference_size`] for spheres). The "penetration < 1 % of d" means this d:
+    /// [`World::reference_size`] for spheres). The bound "penetration < 1 % of d" means this d:
     /// for a 10 × 10 mm cylinder it is 10 mm, while the bounding diameter is 14.1 mm, so
     /// `pen_max` was 1.41e-4 m and the 40-pellet pour reached 1.39e-4 m without a rewind.
     pub fn nominal_size(&self) -> Real {

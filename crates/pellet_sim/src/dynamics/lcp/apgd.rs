@@ -1,5 +1,5 @@
 //! Accelerated projected gradient descent (Nesterov with backtracking and adaptive restart), as
-//! in Chrono's ChSolverAPGD (physics.md §4.5). Matrix-free: needs only y ↦ A y.
+//! in Chrono's ChSolverAPGD. Matrix-free: needs only y ↦ A y.
 
 use super::{residual_with_diag, LcpMatrix, LcpReport, LcpSolver, LcpStatus, StallWindow};
 use crate::math::Real;

@@ -1,4 +1,4 @@
-//! Baraff's 1994 pivoting method (Dantzig-style principal pivoting), physics.md §4.4.
+//! Baraff's 1994 pivoting method (Dantzig-style principal pivoting).
 //!
 //! Dense and exact, O(n³): for small islands and as the reference in tests. The Cholesky factor
 //! of the clamped block A_CC is updated incrementally (append a row, or delete one), so a pivot

@@ -1,4 +1,5 @@
-//! Linear complementarity problems a = A f + b, f ≥ 0, a ≥ 0, f·a = 0 (physics.md §4).
+//! Linear complementarity problems a = A f + b, f ≥ 0, a ≥ 0, f·a = 0: the resting contacts of the
+//! force-level stepper.
 //!
 //! One problem, several solvers behind one interface: Baraff's exact pivoting method (small
 //! islands, reference), APGD and PGS (large islands). All report residual, iterations, status.

@@ -1,4 +1,4 @@
-//! Projected Gauss–Seidel with symmetric (forward/backward) sweeps (physics.md §4.5).
+//! Projected Gauss–Seidel with symmetric (forward/backward) sweeps.
 
 use super::{residual, LcpMatrix, LcpReport, LcpSolver, LcpStatus, StallWindow};
 use crate::math::Real;
