@@ -19,8 +19,10 @@ use std::io::Write;
 use std::process::ExitCode;
 
 mod same_file;
+mod usage;
 
 pub use same_file::{refuse_clashing_outputs, refuse_overwriting_inputs};
+pub use usage::{capped, usage_line, ECHO_LIMIT};
 
 use clap::Parser;
 
@@ -50,9 +52,9 @@ pub fn main<A: Parser>(tool: &str, run: impl FnOnce(A) -> anyhow::Result<Outcome
         Ok(a) => a,
         Err(e) => {
             // --help and --version are successes, unless their text could not be written;
-            // usage errors exit 2.
+            // usage errors exit 2, on one line as every other error.
             if e.use_stderr() {
-                let _ = e.print();
+                eprintln!("{tool}: error: {}", usage_line(&A::command(), &e));
                 return ExitCode::from(EXIT_ERROR);
             }
             if let Err(closed) = pellet_io::require_stdout() {

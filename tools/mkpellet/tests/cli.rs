@@ -84,7 +84,9 @@ fn bad_sizes_exit_2_with_one_line_naming_the_flag_and_write_nothing() {
 fn usage_errors_exit_2_and_help_shows_examples() {
     let dir = tempfile::tempdir().unwrap();
     let out = mkpellet(dir.path(), &["cylinder", "--diameter", "10"]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_error(&out, "missing --height (see mkpellet cylinder --help)");
+    assert_error(&mkpellet(dir.path(), &["cylindr"]), "unknown subcommand 'cylindr' (did you mean 'cylinder'?)");
+    assert_error(&mkpellet(dir.path(), &[]), "give a subcommand: one of sphere, cylinder, ring");
     let help = mkpellet(dir.path(), &["--help"]);
     assert_eq!(help.status.code(), Some(0));
     let text = String::from_utf8_lossy(&help.stdout);
@@ -199,3 +201,4 @@ fn a_closed_stdout_is_an_error_not_a_silent_success() {
     assert_error(&mkpellet_stdout_closed(dir.path(), &["info", "s.pellet"]), "standard output: it is closed");
     assert_error(&mkpellet_stdout_closed(dir.path(), &["--help"]), "standard output: it is closed");
 }
+
