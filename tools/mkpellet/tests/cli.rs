@@ -202,3 +202,15 @@ fn a_closed_stdout_is_an_error_not_a_silent_success() {
     assert_error(&mkpellet_stdout_closed(dir.path(), &["--help"]), "standard output: it is closed");
 }
 
+/// An output that cannot be written is said in plain words about the user's path: no OS error
+/// number, no temporary file's name.
+#[test]
+fn an_output_that_is_a_directory_is_said_so_plainly() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("d")).unwrap();
+    let out = mkpellet(dir.path(), &["sphere", "--diameter", "10", "-o", "d"]);
+    assert_error(&out, "mkpellet: error: d: is a directory, not a file; give a file name");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("os error") && !err.contains(".packbed-"), "{err}");
+    assert!(files_in(&dir.path().join("d")).is_empty(), "a temporary file was left");
+}
