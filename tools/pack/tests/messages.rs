@@ -54,3 +54,28 @@ fn help_and_version_still_print_to_stdout_and_exit_0() {
     }
     assert!(String::from_utf8_lossy(&pack(&["--help"]).stdout).contains("Usage: pack"));
 }
+
+/// A run that reaches --max-time while pellets are still entering says so, and how to go on.
+#[test]
+fn a_run_stopped_while_loading_says_what_that_means() {
+    let dir = tempfile::tempdir().unwrap();
+    let mkpellet = std::path::Path::new(env!("CARGO_BIN_EXE_pack")).with_file_name("mkpellet");
+    assert!(mkpellet.exists(), "build the workspace binaries first (make test does)");
+    let made = Command::new(mkpellet)
+        .args(["sphere", "--diameter", "10", "--faces", "500", "-o", "s.pellet"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(made.status.code(), Some(0));
+    let args = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "6", "--spacing", "0.05"];
+    let out = Command::new(env!("CARGO_BIN_EXE_pack"))
+        .args(args)
+        .args(["--max-time", "0.1", "--quiet", "-o", "x.mcap"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("the run stopped while pellets were still entering") && err.contains("--resume"), "{err}");
+    assert!(!err.contains("energy history"), "{err}");
+}
