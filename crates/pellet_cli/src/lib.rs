@@ -19,8 +19,10 @@ use std::io::Write;
 use std::process::ExitCode;
 
 mod same_file;
+mod usage;
 
 pub use same_file::{refuse_clashing_outputs, refuse_overwriting_inputs};
+pub use usage::{capped, usage_line, ECHO_LIMIT};
 
 use clap::Parser;
 
@@ -50,9 +52,9 @@ pub fn main<A: Parser>(tool: &str, run: impl FnOnce(A) -> anyhow::Result<Outcome
         Ok(a) => a,
         Err(e) => {
             // --help and --version are successes, unless their text could not be written;
-            // usage errors exit 2.
+            // usage errors exit 2, on one line as every other error.
             if e.use_stderr() {
-                let _ = e.print();
+                eprintln!("{tool}: error: {}", usage_line(&A::command(), &e));
                 return ExitCode::from(EXIT_ERROR);
             }
             if let Err(closed) = pellet_io::require_stdout() {
@@ -89,7 +91,11 @@ pub fn one_line(e: &anyhow::Error) -> String {
     // path, over an error that starts with the path) replaces it.
     let mut last = 0;
     for cause in e.chain() {
-        let text = cause.to_string().replace('\n', " ");
+        let text = match cause.downcast_ref::<std::io::Error>() {
+            Some(io) => pellet_io::plain_reason(io),
+            None => cause.to_string(),
+        };
+        let text = text.replace('\n', " ");
         if line.ends_with(&text) {
             continue;
         }
@@ -122,6 +128,20 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
         c.downcast_ref::<std::io::Error>().is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
             || c.to_string().contains("Broken pipe")
     })
+}
+
+/// Creates the output directory `dir` given by `flag`, and its parents. A file in its way is
+/// said so: the OS's own "File exists" reads as if the directory were there.
+pub fn create_output_dir(flag: &str, dir: &std::path::Path) -> anyhow::Result<()> {
+    use std::io::ErrorKind as K;
+    match std::fs::create_dir_all(dir) {
+        Ok(()) => Ok(()),
+        Err(e) if matches!(e.kind(), K::AlreadyExists | K::NotADirectory) => anyhow::bail!(
+            "{flag} {}: a file is in the way of this directory; remove it or give another {flag}",
+            dir.display()
+        ),
+        Err(e) => Err(anyhow::Error::new(e).context(format!("{flag} {}: cannot create the directory", dir.display()))),
+    }
 }
 
 /// Checks a length flag in mm: finite and > 0. The error names the flag.
@@ -179,6 +199,25 @@ mod tests {
     fn a_context_that_the_cause_starts_with_is_not_repeated() {
         let e = anyhow::anyhow!("x.jpg: unknown image type").context("x.jpg").context("plotting");
         assert_eq!(one_line(&e), "plotting: x.jpg: unknown image type");
+    }
+
+    #[test]
+    fn a_file_in_the_way_of_an_output_directory_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("out");
+        std::fs::write(&file, b"").unwrap();
+        for target in [file.clone(), file.join("sub")] {
+            let e = super::create_output_dir("-o", &target).unwrap_err().to_string();
+            assert!(e.ends_with("a file is in the way of this directory; remove it or give another -o"), "{e}");
+        }
+        super::create_output_dir("-o", &dir.path().join("a/b")).unwrap();
+        assert!(dir.path().join("a/b").is_dir());
+    }
+
+    #[test]
+    fn os_errors_are_in_plain_words() {
+        let e = anyhow::Error::new(std::io::Error::from_raw_os_error(21)).context("bed.stl");
+        assert_eq!(one_line(&e), "bed.stl: is a directory, not a file; give a file name");
     }
 
     #[test]

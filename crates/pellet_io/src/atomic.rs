@@ -110,7 +110,8 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
             use std::os::unix::fs::PermissionsExt;
             builder.permissions(std::fs::Permissions::from_mode(0o666));
         }
-        let mut tmp = builder.tempfile_in(dir).map_err(io)?;
+        // tempfile's error names the temporary file, which the user never asked for.
+        let mut tmp = builder.tempfile_in(dir).map_err(|e| io(std::io::Error::from(e.kind())))?;
         registered(tmp.path(), true);
         tmp.write_all(&out.bytes).map_err(io)?;
         tmp.as_file().sync_all().map_err(io)?;

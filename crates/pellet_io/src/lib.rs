@@ -91,6 +91,7 @@ mod mesh_files;
 mod packing_file;
 mod pellet_file;
 mod poses_csv;
+mod reason;
 mod stdout;
 mod stl_read;
 mod trajectory;
@@ -102,6 +103,7 @@ pub use packing_file::{
 };
 pub use pellet_file::{decode_pellet, encode_pellet, PelletFile, Provenance, PELLET_FORMAT_VERSION, PELLET_MAGIC};
 pub use poses_csv::decode_poses_csv;
+pub use reason::plain_reason;
 pub use stdout::{require_stdout, stdout_closed};
 pub use trajectory::{
     decode_message, encode_message, read_trajectory, read_trajectory_with, EnergyRecord, Frame, ReadOptions,
@@ -118,7 +120,7 @@ pub enum IoError {
     )]
     StdoutClosed,
     /// The operating system refused a read or write.
-    #[error("{path}: {source}")]
+    #[error("{path}: {}", plain_reason(source))]
     Io {
         /// The file involved.
         path: String,

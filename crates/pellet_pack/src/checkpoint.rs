@@ -155,7 +155,8 @@ mod v1 {
 const MAY_CHANGE: [&str; 4] = ["pellet", "max_time_s", "checkpoint_every_s", "foxglove"];
 
 /// The settings in which `config` differs from the run recorded with `recorded_json` (the
-/// trajectory's `config` metadata), as "name: recorded → now"; empty if it may continue it.
+/// trajectory's `config` metadata), as the flags a user types: "--count 20 → 21"; empty if it
+/// may continue it.
 pub fn resume_conflicts(recorded_json: &str, config: &PackConfig) -> Vec<String> {
     let Ok(serde_json::Value::Object(mut old)) = serde_json::from_str::<serde_json::Value>(recorded_json) else {
         return vec!["config: the recorded configuration is unreadable".into()];
@@ -177,14 +178,78 @@ pub fn resume_conflicts(recorded_json: &str, config: &PackConfig) -> Vec<String>
         }
         match old.get(key) {
             Some(v) if v == value => {}
-            Some(v) => out.push(format!("{key}: {v} → {value}")),
-            None => out.push(format!("{key}: (not recorded) → {value}")),
+            Some(v) => {
+                let ((was_flag, was), (flag, now)) = (as_flag(key, v), as_flag(key, value));
+                if was_flag == flag {
+                    out.push(format!("{flag} {was} → {now}"));
+                } else {
+                    out.push(format!("{was_flag} {was} → {flag} {now}"));
+                }
+            }
+            None => {
+                let (flag, now) = as_flag(key, value);
+                out.push(format!("{flag}: not recorded → {now}"));
+            }
         }
     }
     for key in old.keys() {
         if !new.contains_key(key) && !MAY_CHANGE.contains(&key.as_str()) {
-            out.push(format!("{key}: recorded but unknown to this pack"));
+            out.push(format!("{}: recorded but unknown to this pack", as_flag(key, &serde_json::Value::Null).0));
         }
+    }
+    out
+}
+
+/// A recorded setting (SI, named as in [`PackConfig`]) as the flag and value a user gives:
+/// `tube_diameter_m` 0.03 → `--tube-diameter` 30 (mm), `amount` {"Count":20} → `--count` 20.
+fn as_flag(key: &str, value: &serde_json::Value) -> (String, String) {
+    use serde_json::Value;
+    if let Value::Object(amount) = value {
+        if let Some((variant, inner)) = amount.iter().next() {
+            return match variant.as_str() {
+                "Count" => ("--count".into(), shown(inner, 1.0)),
+                "FillHeight" => ("--fill-height".into(), shown(inner, 1e3)),
+                other => (format!("--{}", kebab(other)), shown(inner, 1.0)),
+            };
+        }
+    }
+    // The SI suffixes of PackConfig, longest first, and the factor back to the flag's unit.
+    let units = [("_kg_m3", 1.0), ("_m_s", 1.0), ("_rad", 180.0 / std::f64::consts::PI), ("_dp", 1.0), ("_s", 1.0)];
+    let (name, factor) = units
+        .iter()
+        .find_map(|(suffix, f)| key.strip_suffix(suffix).map(|n| (n, *f)))
+        .or_else(|| key.strip_suffix("_m").map(|n| (n, 1e3)))
+        .unwrap_or((key, 1.0));
+    (format!("--{}", kebab(name)), shown(value, factor))
+}
+
+fn shown(value: &serde_json::Value, factor: f64) -> String {
+    use serde_json::Value;
+    match value {
+        Value::Number(n) if factor != 1.0 || n.is_f64() => {
+            // Rounded to 12 digits: 0.12 m × 1000 reads 120, not 120.00000000000001.
+            let v = n.as_f64().unwrap_or(f64::NAN) * factor;
+            let digits = 11 - v.abs().log10().floor().clamp(-20.0, 20.0) as i32;
+            let scale = 10f64.powi(digits.max(0));
+            format!("{}", (v * scale).round() / scale)
+        }
+        Value::Number(n) => n.to_string(),
+        Value::String(s) => kebab(s),
+        Value::Bool(true) => "on".into(),
+        Value::Bool(false) => "off".into(),
+        Value::Null => "(none)".into(),
+        other => other.to_string(),
+    }
+}
+
+/// `tube_diameter` → `tube-diameter`, `OneColumn` → `one-column`.
+fn kebab(name: &str) -> String {
+    let mut out = String::new();
+    for (i, c) in name.chars().enumerate() {
+        if c.is_ascii_uppercase() && i > 0 {
+            out.push('-');
+        }
+        out.push(if c == '_' { '-' } else { c.to_ascii_lowercase() });
     }
     out
 }
@@ -215,9 +280,35 @@ mod tests {
         assert!(resume_conflicts(&old, &config(Some(Stepper::Acceleration))).is_empty());
         let refused = resume_conflicts(&old, &config(Some(Stepper::Velocity)));
         assert_eq!(refused.len(), 1, "{refused:?}");
-        assert!(refused[0].starts_with("stepper:") && refused[0].contains("velocity"), "{refused:?}");
+        assert_eq!(refused, ["--stepper acceleration → velocity"]);
         let velocity = serde_json::to_string(&config(Some(Stepper::Velocity))).unwrap();
         assert!(resume_conflicts(&velocity, &config(Some(Stepper::Velocity))).is_empty());
         assert_eq!(resume_conflicts(&velocity, &config(Some(Stepper::Acceleration))).len(), 1);
+    }
+
+    /// The settings are named as the flags are typed, in the flags' units.
+    #[test]
+    fn differing_settings_read_as_flags_in_their_units() {
+        let run = |o: PackOptions| PackConfig::resolve(&o).unwrap();
+        let base = || PackOptions {
+            pellet: Some("s.pellet".into()),
+            tube_diameter: Some(30.0),
+            count: Some(20),
+            ..Default::default()
+        };
+        let old = serde_json::to_string(&run(base())).unwrap();
+        let changed = run(PackOptions {
+            count: Some(21),
+            tube_diameter: Some(40.0),
+            tilt: Some(30.0),
+            record_velocities: Some(true),
+            ..base()
+        });
+        let mut got = resume_conflicts(&old, &changed);
+        got.sort();
+        let want = ["--count 20 → 21", "--record-velocities off → on", "--tilt 45 → 30", "--tube-diameter 30 → 40"];
+        assert_eq!(got, want);
+        let filled = run(PackOptions { count: None, fill_height: Some(120.0), ..base() });
+        assert_eq!(resume_conflicts(&old, &filled), ["--count 20 → --fill-height 120"]);
     }
 }

@@ -135,6 +135,12 @@ pub struct SettleReport {
     pub reason: Option<String>,
 }
 
+/// The reason a run that never finished loading is not settled: the test starts when the last
+/// pellet has entered, so such a run gave it nothing to test.
+pub const NOTHING_AFTER_LOADING: &str =
+    "the run stopped while pellets were still entering, before the settle test could start; \
+     run pack longer (a larger --max-time; --resume goes on from where it stopped)";
+
 /// Runs the test over a time-ordered energy history.
 pub fn check_settled(history: &[EnergySample], criteria: &SettleCriteria) -> SettleReport {
     let Some(last) = history.last() else {
@@ -146,7 +152,7 @@ pub fn check_settled(history: &[EnergySample], criteria: &SettleCriteria) -> Set
             final_kinetic_j: 0.0,
             final_relative_change: f64::INFINITY,
             final_max_speed_m_s: 0.0,
-            reason: Some("the energy history is empty".into()),
+            reason: Some(NOTHING_AFTER_LOADING.into()),
         };
     };
     let final_count = last.pellets;

@@ -247,7 +247,7 @@ pub fn run(args: Args) -> Result<Outcome> {
     }
     let (violations, unused) = gates::check(&scores, &gate_list);
 
-    std::fs::create_dir_all(&out_dir).with_context(|| format!("{}: cannot create the directory", out_dir.display()))?;
+    pellet_cli::create_output_dir("-o", &out_dir)?;
     let mut plot_paths = Vec::new();
     if !args.no_plots {
         if let Some(profile) = &input.profile {

@@ -84,7 +84,9 @@ fn bad_sizes_exit_2_with_one_line_naming_the_flag_and_write_nothing() {
 fn usage_errors_exit_2_and_help_shows_examples() {
     let dir = tempfile::tempdir().unwrap();
     let out = mkpellet(dir.path(), &["cylinder", "--diameter", "10"]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_error(&out, "missing --height (see mkpellet cylinder --help)");
+    assert_error(&mkpellet(dir.path(), &["cylindr"]), "unknown subcommand 'cylindr' (did you mean 'cylinder'?)");
+    assert_error(&mkpellet(dir.path(), &[]), "give a subcommand: one of sphere, cylinder, ring");
     let help = mkpellet(dir.path(), &["--help"]);
     assert_eq!(help.status.code(), Some(0));
     let text = String::from_utf8_lossy(&help.stdout);
@@ -228,4 +230,17 @@ fn damaged_meshes_and_pellets_are_one_line_errors_and_left_unchanged() {
         assert_eq!(&std::fs::read(dir.path().join(name)).unwrap(), bytes, "{name} was changed");
         assert!(!dir.path().join("x.pellet").exists(), "{name}: an output was written");
     }
+}
+
+/// An output that cannot be written is said in plain words about the user's path: no OS error
+/// number, no temporary file's name.
+#[test]
+fn an_output_that_is_a_directory_is_said_so_plainly() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("d")).unwrap();
+    let out = mkpellet(dir.path(), &["sphere", "--diameter", "10", "-o", "d"]);
+    assert_error(&out, "mkpellet: error: d: is a directory, not a file; give a file name");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("os error") && !err.contains(".packbed-"), "{err}");
+    assert!(files_in(&dir.path().join("d")).is_empty(), "a temporary file was left");
 }

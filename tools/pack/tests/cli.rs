@@ -407,7 +407,7 @@ fn resume_refuses_what_it_cannot_continue() {
     let out = pack_owned(d, &other);
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
-    assert!(err.contains("cannot resume") && err.contains("cor: 0.9 → 0.5"), "{err}");
+    assert!(err.contains("cannot resume") && err.contains("--cor 0.9 → 0.5"), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     // The file is untouched.
     assert!(read(d, "r.mcap").checkpoint.is_some());

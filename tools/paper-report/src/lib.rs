@@ -71,7 +71,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     }
     let groups = collect::collect(&rows, &runs, args.repeats)?;
     let out = Path::new(&args.output);
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    pellet_cli::create_output_dir("-o", out)?;
 
     let shapes = [Shape::Sphere, Shape::Cylinder, Shape::Ring];
     let validation: Vec<_> = shapes

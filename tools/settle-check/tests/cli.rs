@@ -214,6 +214,14 @@ fn bad_input_is_a_one_line_error_with_exit_2() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--settle-window must be"));
     assert!(!dir.path().join("x.packing").exists());
+    // Usage errors (clap's) are one line too, with the flag and what it takes.
+    let out = settle_check(dir.path(), &["bed.mcap", "--settle-window", "soon"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(
+        err.trim_end(),
+        "settle-check: error: invalid value 'soon' for --settle-window: expected a number (see settle-check --help)"
+    );
 }
 
 /// Runs settle-check with its stdout closed, as `settle-check … >&-` does; `Stdio::null()`
