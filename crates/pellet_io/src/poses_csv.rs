@@ -18,6 +18,7 @@
 
 use pellet_geom::PlacedPellet;
 
+use crate::reason::shown_field;
 use crate::IoError;
 
 const NAMES: [&str; 8] = ["id", "x", "y", "z", "qw", "qx", "qy", "qz"];
@@ -117,16 +118,6 @@ pub fn decode_poses_csv(bytes: &[u8], path: &str, orientation_required: bool) ->
         poses.push(PlacedPellet { type_index: 0, position, orientation });
     }
     Ok(poses)
-}
-
-/// At most 40 characters of a field, control characters as `?`: a message quotes what the
-/// file holds, but a damaged file's field may be megabytes long.
-fn shown_field(s: &str) -> String {
-    let mut out: String = s.chars().take(40).map(|c| if c.is_control() { '?' } else { c }).collect();
-    if s.chars().nth(40).is_some() {
-        out.push('…');
-    }
-    out
 }
 
 #[cfg(test)]

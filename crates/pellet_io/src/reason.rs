@@ -20,6 +20,16 @@ pub fn plain_reason(e: &std::io::Error) -> String {
     }
 }
 
+/// At most 40 characters of what a file holds, control characters as `?`: a message quotes
+/// the file's text, but a damaged file's field or line may be megabytes long.
+pub(crate) fn shown_field(s: &str) -> String {
+    let mut out: String = s.chars().take(40).map(|c| if c.is_control() { '?' } else { c }).collect();
+    if s.chars().nth(40).is_some() {
+        out.push('…');
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::plain_reason;

@@ -4,6 +4,8 @@
 //! with "failed to fill whole buffer", and an ASCII one with the parser's debug output
 //! (`vertex f32 f32 f32, got ["vertex", "1", "2"]`) and no line number.
 
+use crate::reason::shown_field;
+
 /// Bytes before the first triangle of a binary STL: an 80-byte header and the u32 count.
 const BINARY_HEADER: usize = 84;
 /// Bytes per triangle of a binary STL: normal, three corners (f32) and a u16 attribute.
@@ -84,7 +86,7 @@ fn read_ascii(text: &str) -> Result<Vec<[[f32; 3]; 3]>, String> {
         last = line_no;
         let words: Vec<&str> = line.split_whitespace().collect();
         let Some(&first) = words.first() else { continue };
-        let wrong = || format!("line {line_no}: expected {}, found `{}`", expect.words(), shown(line.trim()));
+        let wrong = || format!("line {line_no}: expected {}, found `{}`", expect.words(), shown_field(line.trim()));
         expect = match (expect, first) {
             (Expect::Solid, "solid") => Expect::Facet,
             (Expect::Facet, "endsolid") => Expect::Solid,
@@ -126,18 +128,9 @@ fn numbers(words: &[&str], line_no: usize, keyword: &str) -> Result<[f32; 3], St
         [Some(x), Some(y), Some(z)] => Ok([x, y, z]),
         _ => Err(format!(
             "line {line_no}: `{keyword}` must be followed by three finite numbers, found `{}`",
-            shown(&words.join(" "))
+            shown_field(&words.join(" "))
         )),
     }
-}
-
-/// At most 40 characters of what the file holds, control characters as `?`.
-fn shown(s: &str) -> String {
-    let mut out: String = s.chars().take(40).map(|c| if c.is_control() { '?' } else { c }).collect();
-    if s.chars().nth(40).is_some() {
-        out.push('…');
-    }
-    out
 }
 
 #[cfg(test)]
