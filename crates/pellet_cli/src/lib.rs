@@ -149,7 +149,34 @@ pub fn positive_mm(flag: &str, value: f64) -> anyhow::Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        anyhow::bail!("{flag} must be a finite number > 0 mm (got {value})")
+        anyhow::bail!("{flag} must be a finite number > 0 mm (got {})", pellet_geom::math::shown(value))
+    }
+}
+
+/// Checks a length flag in mm against its range (lo, hi] (lo = 0 is allowed where `lo_closed`).
+/// `why` says where the bounds come from (say "(dp / 50 to dp / 2 for these pellets)"), so the
+/// error gives the range in the user's numbers.
+pub fn mm_in_range(flag: &str, value: f64, lo: f64, hi: f64, lo_closed: bool, why: &str) -> anyhow::Result<f64> {
+    let above = if lo_closed { value >= lo } else { value > lo };
+    if value.is_finite() && above && value <= hi {
+        Ok(value)
+    } else {
+        let open = if lo_closed { "[" } else { "(" };
+        // The bounds to a micrometre (dp / 50 is 0.19634954… mm for some pellets).
+        let bound = |x: f64| {
+            let t = format!("{:.3}", x);
+            if (1e-3..1e6).contains(&x.abs()) {
+                format!("{}", t.parse::<f64>().unwrap_or(x))
+            } else {
+                pellet_geom::math::shown(x)
+            }
+        };
+        anyhow::bail!(
+            "{flag} must be in {open}{}, {}] mm{why} (got {})",
+            bound(lo),
+            bound(hi),
+            pellet_geom::math::shown(value)
+        )
     }
 }
 

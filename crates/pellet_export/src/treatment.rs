@@ -138,7 +138,10 @@ pub fn apply(
     let mut treated_bed = bed.clone();
     if let Some(f) = treatment.shrink {
         if !(0.5..=1.0).contains(&f) {
-            return Err(ExportError::BadParameter(format!("--shrink must be 0.5 to 1 (got {f}); 0.99 is usual")));
+            return Err(ExportError::BadParameter(format!(
+                "--shrink must be 0.5 to 1 (got {}); 0.99 is usual",
+                pellet_geom::math::shown(f)
+            )));
         }
         treated_bed.pellet_types = bed.pellet_types.iter().map(|p| scaled_pellet(p, f)).collect();
         let slab = |b: &Bed, i: usize| {
@@ -224,7 +227,7 @@ fn positive(what: &str, value: Real) -> Result<(), ExportError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(ExportError::BadParameter(format!("{what} must be > 0 (got {} mm)", value * 1e3)))
+        Err(ExportError::BadParameter(format!("{what} must be > 0 (got {} mm)", pellet_geom::math::shown(value * 1e3))))
     }
 }
 

@@ -18,6 +18,10 @@ pub use pellet_sim::Stepper;
 /// pellets take a few GB with their contacts; four billion aborted the allocator).
 pub const MAX_COUNT: u32 = 1_000_000;
 
+/// Largest tube diameter and fill height, mm: mkpellet's largest pellet size. A larger tube is
+/// a typing slip, and a run in it would never end (the pellets fall and spread for ever).
+pub const MAX_LENGTH_MM: f64 = 1e4;
+
 /// The stepper of a run that does not choose one.
 pub const DEFAULT_STEPPER: Stepper = Stepper::Acceleration;
 use crate::ConfigError;
@@ -386,7 +390,7 @@ impl PackConfig {
                 )))
             }
             (Some(n), None) => Amount::Count(n),
-            (None, Some(h)) => Amount::FillHeight(check("fill-height", h, 0.0, f64::INFINITY, true, " mm")? * mm),
+            (None, Some(h)) => Amount::FillHeight(check("fill-height", h, 0.0, MAX_LENGTH_MM, true, " mm")? * mm),
             (None, None) => return Err(ConfigError("give --count N or --fill-height MM".into())),
         };
         let scheme = o.scheme.unwrap_or(LoadingScheme::OneColumn);
@@ -397,7 +401,7 @@ impl PackConfig {
         }
         Ok(PackConfig {
             pellet,
-            tube_diameter_m: check("tube-diameter", tube, 0.0, f64::INFINITY, true, " mm")? * mm,
+            tube_diameter_m: check("tube-diameter", tube, 0.0, MAX_LENGTH_MM, true, " mm")? * mm,
             amount,
             seed: o.seed.unwrap_or(1),
             cor: check("cor", o.cor.unwrap_or(0.9), 0.0, 1.0, false, "")?,
@@ -543,6 +547,8 @@ mod tests {
             (PackOptions { cor: Some(1.5), ..base() }, "--cor must be in [0, 1]"),
             (PackOptions { wall_cor: Some(-0.1), ..base() }, "--wall-cor"),
             (PackOptions { tube_diameter: Some(-3.0), ..base() }, "--tube-diameter must be in (0"),
+            (PackOptions { tube_diameter: Some(1e300), ..base() }, "--tube-diameter must be in (0, 10000] mm"),
+            (PackOptions { count: None, fill_height: Some(1e12), ..base() }, "--fill-height must be in (0, 10000] mm"),
             (PackOptions { density: Some(f64::NAN), ..base() }, "--density"),
             (PackOptions { fill_height: Some(100.0), ..base() }, "either --count or --fill-height"),
             (PackOptions { count: None, ..base() }, "give --count N or --fill-height MM"),

@@ -8,7 +8,7 @@ use clap::{Parser, ValueEnum};
 use serde_json::json;
 
 use pellet_analysis::{bulk_porosity, reference_diameters, Geometry};
-use pellet_cli::{positive_mm, Outcome};
+use pellet_cli::{mm_in_range, positive_mm, Outcome};
 use pellet_export::treatment::{self, Treatment};
 use pellet_export::{clip, poses, scene, stl, voxels, vtk};
 use pellet_io::OutputFile;
@@ -127,28 +127,29 @@ pub struct Args {
     /// Scale every pellet about its centroid by this factor (e.g. 0.99) to open the contacts.
     #[arg(long, value_name = "FACTOR")]
     pub shrink: Option<f64>,
-    /// Join surfaces closer than this gap (mm) with cylindrical bridges.
+    /// Join surfaces closer than this gap (mm, up to dp/5) with cylindrical bridges.
     #[arg(long, value_name = "MM", conflicts_with = "cap_gap")]
     pub bridge_gap: Option<f64>,
-    /// Diameter of the bridges (mm) [default: dp/5].
+    /// Diameter of the bridges (mm, up to dp/2) [default: dp/5].
     #[arg(long, value_name = "MM", requires = "bridge_gap")]
     pub bridge_diameter: Option<f64>,
-    /// Flatten surfaces closer than this gap (mm) so that this gap remains (caps).
+    /// Flatten surfaces closer than this gap (mm, up to dp/5) so that this gap remains (caps).
     #[arg(long, value_name = "MM")]
     pub cap_gap: Option<f64>,
-    /// Gap (mm) below which --shrink counts a contact as opened [default: dp/100].
+    /// Gap (mm, up to dp/5) below which --shrink counts a contact as opened [default: dp/100].
     #[arg(long, value_name = "MM")]
     pub contact_gap: Option<f64>,
     /// Write an OpenFOAM case (surfaces in m and the meshing dictionaries) to this new directory.
     #[arg(long, value_name = "DIR")]
     pub openfoam: Option<String>,
-    /// With --openfoam: cell size at the pellets (mm), twice that elsewhere [default: dp/10].
+    /// With --openfoam: cell size at the pellets (mm, dp/50 to the smaller of dp/2 and D/4), twice
+    /// that elsewhere [default: dp/10].
     #[arg(long, value_name = "MM", requires = "openfoam")]
     pub cell_size: Option<f64>,
-    /// With --openfoam: empty tube below the floor (mm) [default: dp].
+    /// With --openfoam: empty tube below the floor (mm, 0 to 100 dp) [default: dp].
     #[arg(long, value_name = "MM", requires = "openfoam")]
     pub inlet: Option<f64>,
-    /// With --openfoam: empty tube above the bed top (mm) [default: dp].
+    /// With --openfoam: empty tube above the bed top (mm, 0 to 100 dp) [default: dp].
     #[arg(long, value_name = "MM", requires = "openfoam")]
     pub outlet: Option<f64>,
     /// With --openfoam: the contact treatment, sized to two cells unless --cap-gap, --bridge-gap or --shrink is given [default: caps].
@@ -259,7 +260,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     }
     let (dp, _) = reference_diameters(&bed).with_context(|| args.packing.clone())?;
     let window = args.window.as_deref().map(parse_window).transpose()?;
-    let optional = |flag: &str, v: Option<f64>| v.map(|v| positive_mm(flag, v).map(|v| v * MM)).transpose();
+    let optional = |flag: &str, v: Option<f64>| treatment_length(flag, v, dp);
     let range = scene::axial_range(&bed, window);
     let selected = match window {
         Some(w) if !args.whole_pellets => scene::select_overlapping(&bed, w),
@@ -352,7 +353,10 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     }
     let mut voxel_result = None;
     if args.voxels.is_some() || args.vti.is_some() {
-        let spacing = match (optional("--voxel-size", args.voxel_size)?, args.voxels_per_dp) {
+        let spacing = match (
+            args.voxel_size.map(|v| positive_mm("--voxel-size", v).map(|v| v * MM)).transpose()?,
+            args.voxels_per_dp,
+        ) {
             (Some(h), _) => h,
             (None, Some(n)) if n.is_finite() && n > 0.0 => dp / n,
             (None, Some(n)) => bail!("--voxels-per-dp must be a finite number > 0 (got {n})"),
@@ -416,6 +420,16 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         pellet_cli::print_stdout(&text)?;
     }
     Ok(Outcome::Success)
+}
+
+/// A treatment's length flag (mm) checked against its range and turned into metres. Gaps are
+/// at most dp / 5 and bridges at most dp / 2 across: the literature's treatments are 1–2 % of
+/// dp (gaps) and 10–20 % (bridges), and a larger one is a different bed, not a treated one.
+pub(crate) fn treatment_length(flag: &str, value: Option<f64>, dp: f64) -> anyhow::Result<Option<f64>> {
+    let Some(v) = value else { return Ok(None) };
+    let (hi, why) = if flag == "--bridge-diameter" { (dp / 2.0, "dp / 2") } else { (dp / 5.0, "dp / 5") };
+    let why = format!(" (0 to {why} for these pellets)");
+    Ok(Some(mm_in_range(flag, v, 0.0, hi / MM, false, &why)? * MM))
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@ use anyhow::{bail, Context};
 use clap::ValueEnum;
 
 use pellet_analysis::bed_top;
-use pellet_cli::{positive_mm, Outcome};
+use pellet_cli::{mm_in_range, Outcome};
 use pellet_export::openfoam::{self, CaseGeometry};
 use pellet_export::scene::{enclosed_volume, tube_mesh};
 use pellet_export::treatment::{self, Treatment};
@@ -36,19 +36,25 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
     if target.exists() {
         bail!("{dir} already exists; give --openfoam a new directory");
     }
-    let mm = |flag: &str, v: Option<f64>| v.map(|v| positive_mm(flag, v).map(|v| v * MM)).transpose();
-    let cell = mm("--cell-size", args.cell_size)?.unwrap_or(dp / 10.0);
-    let inlet = match args.inlet {
-        Some(v) if v.is_finite() && v >= 0.0 => v * MM,
-        Some(v) => bail!("--inlet must be a finite number >= 0 mm (got {v})"),
-        None => dp,
-    };
-    let outlet = match args.outlet {
-        Some(v) if v.is_finite() && v >= 0.0 => v * MM,
-        Some(v) => bail!("--outlet must be a finite number >= 0 mm (got {v})"),
-        None => dp,
-    };
+    let mm = |flag: &str, v: Option<f64>| crate::treatment_length(flag, v, dp);
     let radius = 0.5 * bed.tube.diameter;
+    // Cells from dp / 50 (about 10⁷ background cells for a tube of N = 4 and 3 dp high; finer
+    // is a workstation's job, asked for by hand) to dp / 2 and a quarter of the tube (coarser
+    // finds no fluid point between the pellets to seed the mesh from).
+    let coarsest = (dp / 2.0).min(radius / 2.0);
+    let cell = match args.cell_size {
+        Some(v) => {
+            let why = " (dp / 50 to the smaller of dp / 2 and a quarter of the tube for this bed)";
+            mm_in_range("--cell-size", v, dp / 50.0 / MM, coarsest / MM, true, why)? * MM
+        }
+        None => dp / 10.0,
+    };
+    let length = |flag: &str, v: Option<f64>| match v {
+        Some(v) => mm_in_range(flag, v, 0.0, 100.0 * dp / MM, true, " (0 to 100 dp for these pellets)").map(|v| v * MM),
+        None => Ok(dp),
+    };
+    let inlet = length("--inlet", args.inlet)?;
+    let outlet = length("--outlet", args.outlet)?;
     let top = bed_top(bed);
     let (z0, z1) = (-inlet, top + outlet);
     let warn = |text: String| {

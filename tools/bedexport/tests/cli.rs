@@ -252,8 +252,9 @@ fn shapes_without_closed_forms_export_with_every_treatment() {
     assert!(trilobe.closed_form.is_none());
     let bed = random_placement(&trilobe, 30.0 * MM, 40.0 * MM, 25, 2);
     std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
-    // Random placement keeps bounding spheres apart: a 2 mm gap still finds neighbours.
-    for treatment in [&["--bridge-gap", "2", "--shrink", "0.99"][..], &["--cap-gap", "2"][..]] {
+    // Random placement keeps bounding spheres apart: a gap of dp / 5 (1.5 mm, the largest
+    // allowed) still finds neighbours.
+    for treatment in [&["--bridge-gap", "1.5", "--shrink", "0.99"][..], &["--cap-gap", "1.5"][..]] {
         let args =
             [&["bed.packing", "--stl", "t.stl", "--voxels", "t.raw", "--window", "5,30"][..], treatment].concat();
         let out = bedexport(dir.path(), &args, None);
@@ -394,7 +395,14 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
         (&["bed.packing", "--voxels", "o.raw", "--voxel-size", "0"], "--voxel-size must be a finite number > 0"),
         (&["bed.packing", "--voxels", "o.raw", "--voxels-per-dp", "-3"], "--voxels-per-dp"),
         (&["bed.packing", "--voxels", "o.raw", "--voxel-size", "0.001"], "choose larger voxels"),
-        (&["bed.packing", "--stl", "o.stl", "--bridge-gap", "-1"], "--bridge-gap must be a finite number > 0"),
+        (&["bed.packing", "--stl", "o.stl", "--bridge-gap", "-1"], "--bridge-gap must be in (0, "),
+        (&["bed.packing", "--stl", "o.stl", "--bridge-gap", "1e300"], "(0 to dp / 5 for these pellets) (got 1e300)"),
+        (&["bed.packing", "--stl", "o.stl", "--bridge-gap", "0.1", "--bridge-diameter", "1e3"], "0 to dp / 2"),
+        (&["bed.packing", "--stl", "o.stl", "--contact-gap", "1e300"], "--contact-gap must be in (0, "),
+        (&["bed.packing", "--openfoam", "c", "--cell-size", "1e-6"], "--cell-size must be in ["),
+        (&["bed.packing", "--openfoam", "c", "--cell-size", "1e9"], "(got 1000000000)"),
+        (&["bed.packing", "--openfoam", "c", "--inlet", "1e300"], "(0 to 100 dp for these pellets) (got 1e300)"),
+        (&["bed.packing", "--openfoam", "c", "--outlet", "-1"], "--outlet must be in [0, "),
         (&["bed.packing", "--stl", "-", "--csv", "-"], "--stl and --csv both name - (stdout)"),
         (&["bed.packing", "--voxels", "-"], "--voxels needs a file name"),
         (
@@ -407,6 +415,7 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
         assert_error(&out, needle);
     }
     assert!(!dir.path().join("o.stl").exists() && !dir.path().join("o.raw").exists());
+    assert!(!dir.path().join("c").exists(), "a refused case left a directory");
     // Usage errors (clap's) are one line too, with the flag and where to read more.
     assert_error(
         &bedexport(dir.path(), &["--no-such-flag"], None),

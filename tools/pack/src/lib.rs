@@ -54,13 +54,13 @@ pub struct Args {
     /// Trajectory to write (MCAP) [required here or in the case file].
     #[arg(short, long, value_name = "FILE")]
     output: Option<String>,
-    /// Tube inner diameter (mm).
+    /// Tube inner diameter (mm, at most 10000).
     #[arg(long, value_name = "MM")]
     tube_diameter: Option<f64>,
     /// Number of pellets to load, 1 to 1000000.
     #[arg(long, value_name = "N")]
     count: Option<u32>,
-    /// Or: load until the bed surface reaches this height (mm).
+    /// Or: load until the bed surface reaches this height (mm, at most 10000).
     #[arg(long, value_name = "MM")]
     fill_height: Option<f64>,
     /// Random seed (disturbances, scheme positions) [default: 1].
