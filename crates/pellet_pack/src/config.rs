@@ -10,6 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::driver::STEP_S;
+use crate::keys;
 use crate::loading::LoadingScheme;
 use pellet_geom::math::shown;
 pub use pellet_sim::Stepper;
@@ -128,25 +129,6 @@ macro_rules! overlay_fields {
 }
 
 impl PackOptions {
-    /// Parses a case file: JSON if it starts with `{`, TOML otherwise.
-    pub fn from_case_file(text: &str, name: &str) -> Result<Self, ConfigError> {
-        if text.trim_start().starts_with('{') {
-            serde_json::from_str(text)
-                .map_err(|e| ConfigError(format!("{name}: bad JSON case file: {}", plain(&e.to_string()))))
-        } else {
-            toml::from_str(text).map_err(|e| {
-                // The position as name:line, where an editor jumps to it.
-                let at = e.span().map_or(String::new(), |s| {
-                    format!(
-                        ":{}",
-                        text.as_bytes()[..s.start.min(text.len())].iter().filter(|&&b| b == b'\n').count() + 1
-                    )
-                });
-                ConfigError(format!("{name}{at}: bad TOML case file: {}", plain(e.message())))
-            })
-        }
-    }
-
     /// The file paths of a case file read from `case_path`: a relative `pellet` or `output`
     /// names a file beside the case file, wherever `pack` runs (as `include` in a Makefile or
     /// a path in Cargo.toml). A case read from stdin (`-`) keeps them relative to the working
@@ -201,59 +183,6 @@ impl PackOptions {
             stepper
         )
     }
-}
-
-/// A parser's message in a user's terms, on one line: a misspelt key's message lists all 30
-/// keys (some 470 characters), so it names the nearest instead; and what the file holds is
-/// quoted to at most 40 characters (a value may be a megabyte long).
-fn plain(message: &str) -> String {
-    if let Some((key, keys)) = message.strip_prefix("unknown field `").and_then(|m| m.split_once('`')) {
-        let keys: Vec<&str> = keys.split('`').skip(1).step_by(2).collect();
-        let nearest = keys.iter().min_by_key(|k| edit_distance(key, k));
-        let hint = nearest.map_or(String::new(), |k| format!("; did you mean `{k}`?"));
-        return format!("unknown key `{}`{hint} (keys are pack's flags without the dashes)", clip(key, 40));
-    }
-    // Quoted spans ("…" or `…`) clipped, everything else kept.
-    let mut out = String::new();
-    let mut rest = message;
-    while let Some(open) = rest.find(['"', '`']) {
-        let quote = rest[open..].chars().next().expect("found");
-        out.push_str(&rest[..=open]);
-        rest = &rest[open + 1..];
-        let close = rest.find(quote).unwrap_or(rest.len());
-        out.push_str(&clip(&rest[..close], 40));
-        rest = &rest[close..];
-        if let Some(q) = rest.strip_prefix(quote) {
-            out.push(quote);
-            rest = q;
-        }
-    }
-    out.push_str(rest);
-    clip(&out.replace(['\n', '\r'], " "), 200)
-}
-
-/// At most `n` characters of `s`, an ellipsis marking a cut.
-fn clip(s: &str, n: usize) -> String {
-    match s.char_indices().nth(n) {
-        Some((at, _)) => format!("{}…", &s[..at]),
-        None => s.to_string(),
-    }
-}
-
-/// Levenshtein distance, for suggesting the key a typo meant.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let next = (diagonal + usize::from(ca != cb)).min(row[j] + 1).min(row[j + 1] + 1);
-            diagonal = row[j + 1];
-            row[j + 1] = next;
-        }
-    }
-    row[b.len()]
 }
 
 /// How much to load.
@@ -341,21 +270,22 @@ fn default_checkpoint_every() -> f64 {
 /// 69.83 mm cylinder bed: 15.9 MB for 17.9 s).
 pub const DEFAULT_CHECKPOINT_EVERY_S: f64 = 1.0;
 
-fn check(flag: &str, v: f64, lo: f64, hi: f64, lo_open: bool, unit: &str) -> Result<f64, ConfigError> {
-    let ok = v.is_finite() && (if lo_open { v > lo } else { v >= lo }) && v <= hi;
-    if ok {
+/// `v` if it is in the flag's range ([`keys::KEYS`], the case file's too), or the message.
+fn check(flag: &str, v: f64) -> Result<f64, ConfigError> {
+    let r = keys::range(flag);
+    if r.holds(v) {
         Ok(v)
     } else {
-        let open = if lo_open { "(" } else { "[" };
-        let hi_txt = if hi.is_infinite() { "∞)".to_string() } else { format!("{hi}]") };
-        Err(ConfigError(format!("--{flag} must be in {open}{lo}, {hi_txt}{unit} (got {})", shown(v))))
+        let open = if r.lo_open { "(" } else { "[" };
+        let hi_txt = if r.hi.is_infinite() { "∞)".to_string() } else { format!("{}]", r.hi) };
+        Err(ConfigError(format!("--{flag} must be in {open}{}, {hi_txt}{} (got {})", r.lo, r.unit, shown(v))))
     }
 }
 
 /// A time (s) that the run can honour: frames and the time limit fall on engine steps of
 /// [`STEP_S`], so a shorter time, or one between two steps, would silently become another.
-fn whole_steps(flag: &str, v: f64, hi: f64) -> Result<f64, ConfigError> {
-    let v = check(flag, v, 0.0, hi, true, " s")?;
+fn whole_steps(flag: &str, v: f64) -> Result<f64, ConfigError> {
+    let v = check(flag, v)?;
     let steps = (v / STEP_S).round();
     if steps < 1.0 || (steps * STEP_S - v).abs() > 1e-9 * v.max(1.0) {
         let time = |steps: f64| {
@@ -390,7 +320,7 @@ impl PackConfig {
                 )))
             }
             (Some(n), None) => Amount::Count(n),
-            (None, Some(h)) => Amount::FillHeight(check("fill-height", h, 0.0, MAX_LENGTH_MM, true, " mm")? * mm),
+            (None, Some(h)) => Amount::FillHeight(check("fill-height", h)? * mm),
             (None, None) => return Err(ConfigError("give --count N or --fill-height MM".into())),
         };
         let scheme = o.scheme.unwrap_or(LoadingScheme::OneColumn);
@@ -401,46 +331,36 @@ impl PackConfig {
         }
         Ok(PackConfig {
             pellet,
-            tube_diameter_m: check("tube-diameter", tube, 0.0, MAX_LENGTH_MM, true, " mm")? * mm,
+            tube_diameter_m: check("tube-diameter", tube)? * mm,
             amount,
             seed: o.seed.unwrap_or(1),
-            cor: check("cor", o.cor.unwrap_or(0.9), 0.0, 1.0, false, "")?,
-            friction: check("friction", o.friction.unwrap_or(0.1), 0.0, 10.0, false, "")?,
-            wall_cor: check("wall-cor", o.wall_cor.unwrap_or(0.6), 0.0, 1.0, false, "")?,
-            wall_friction: check("wall-friction", o.wall_friction.unwrap_or(0.6), 0.0, 10.0, false, "")?,
-            density_kg_m3: check("density", o.density.unwrap_or(8030.0), 0.0, 1e6, true, " kg/m³")?,
-            drop_height_m: check("drop-height", o.drop_height.unwrap_or(30.0), 0.0, 1e4, true, " mm")? * mm,
-            record_every_s: whole_steps("record-every", o.record_every.unwrap_or(0.01), 1e3)?,
-            max_time_s: whole_steps("max-time", o.max_time.unwrap_or(120.0), 1e6)?,
+            cor: check("cor", o.cor.unwrap_or(0.9))?,
+            friction: check("friction", o.friction.unwrap_or(0.1))?,
+            wall_cor: check("wall-cor", o.wall_cor.unwrap_or(0.6))?,
+            wall_friction: check("wall-friction", o.wall_friction.unwrap_or(0.6))?,
+            density_kg_m3: check("density", o.density.unwrap_or(8030.0))?,
+            drop_height_m: check("drop-height", o.drop_height.unwrap_or(30.0))? * mm,
+            record_every_s: whole_steps("record-every", o.record_every.unwrap_or(0.01))?,
+            max_time_s: whole_steps("max-time", o.max_time.unwrap_or(120.0))?,
             scheme,
-            tilt_rad: check("tilt", o.tilt.unwrap_or(45.0), 0.0, 90.0, false, "°")?.to_radians(),
-            position_jitter_dp: check("position-jitter", o.position_jitter.unwrap_or(0.1), 0.0, 10.0, false, " dp")?,
-            angle_jitter_rad: check("angle-jitter", o.angle_jitter.unwrap_or(5.0), 0.0, 180.0, false, "°")?
-                .to_radians(),
-            spacing_s: check("spacing", o.spacing.unwrap_or(0.02), 0.0, 1e3, false, " s")?,
-            settle_window_s: check("settle-window", o.settle_window.unwrap_or(0.15), 0.0, 1e3, true, " s")?,
-            settle_tolerance: check("settle-tolerance", o.settle_tolerance.unwrap_or(1e-3), 0.0, 1.0, true, "")?,
-            max_speed_m_s: check("max-speed", o.max_speed.unwrap_or(1e-3), 0.0, 1e3, true, " m/s")?,
+            tilt_rad: check("tilt", o.tilt.unwrap_or(45.0))?.to_radians(),
+            position_jitter_dp: check("position-jitter", o.position_jitter.unwrap_or(0.1))?,
+            angle_jitter_rad: check("angle-jitter", o.angle_jitter.unwrap_or(5.0))?.to_radians(),
+            spacing_s: check("spacing", o.spacing.unwrap_or(0.02))?,
+            settle_window_s: check("settle-window", o.settle_window.unwrap_or(0.15))?,
+            settle_tolerance: check("settle-tolerance", o.settle_tolerance.unwrap_or(1e-3))?,
+            max_speed_m_s: check("max-speed", o.max_speed.unwrap_or(1e-3))?,
             record_velocities: o.record_velocities.unwrap_or(false),
             foxglove: o.foxglove.unwrap_or(false),
             checkpoint_every_s: match o.checkpoint_every {
-                Some(v) => check("checkpoint-every", v, 0.0, 1e6, false, " s")?,
+                Some(v) => check("checkpoint-every", v)?,
                 None => DEFAULT_CHECKPOINT_EVERY_S,
             },
             // Measured: in the paper's model a poured bed never settles (it
             // keeps turning about the axis and rattling in the resting band);
             // see the README's known limits.
             contact_model: o.contact_model.unwrap_or(ContactModel::Recommended),
-            // Below ~1e-4 m/s the substep cap εp / 2g would be a few µs; above 0.1 m/s a
-            // pellet bouncing at a walking pace would count as resting.
-            resting_band_m_s: check(
-                "resting-band",
-                o.resting_band.unwrap_or(DEFAULT_RESTING_BAND),
-                1e-4,
-                0.1,
-                false,
-                " m/s",
-            )?,
+            resting_band_m_s: check("resting-band", o.resting_band.unwrap_or(DEFAULT_RESTING_BAND))?,
             friction_clamp: o.friction_clamp,
             stepper: o.stepper.unwrap_or(DEFAULT_STEPPER),
         })

@@ -10,9 +10,11 @@
 //!   validation values as defaults, loadable from a TOML or JSON case file.
 #![deny(missing_docs)]
 
+mod case_file;
 pub mod checkpoint;
 pub mod config;
 pub mod driver;
+mod keys;
 pub mod loading;
 mod setup;
 

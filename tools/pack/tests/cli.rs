@@ -632,3 +632,42 @@ fn an_interrupted_run_is_kept_and_resumed_exactly() {
     assert!(resumed.energy == straight.energy, "the resumed energy records differ from the uninterrupted run's");
     assert!(resumed.frames.last().unwrap().time_s > t);
 }
+
+/// A mistake in a case file is one line: the file and line, the key, the value given (clipped)
+/// and what the key takes, alike for TOML and JSON; the run does not start.
+#[test]
+fn case_file_mistakes_name_the_key_the_value_and_what_it_takes() {
+    let dir = tempfile::tempdir().unwrap();
+    let huge = "y".repeat(20 << 20);
+    let cases: &[(&str, &str, &str)] = &[
+        ("count", "-1", "expected a whole number from 1 to 1000000"),
+        ("count", "{}", "expected a whole number from 1 to 1000000"),
+        ("scheme", "3", "expected one of one-column, two-columns, four-columns, sock, dense, batch"),
+        ("max-time", "0", "expected a number in s above 0 and at most 1000000"),
+        ("angle-jitter", "181", "expected a number in degrees from 0 to 180"),
+        ("stepper", &format!("\"{huge}\""), "expected one of acceleration, velocity"),
+    ];
+    for (key, value, wanted) in cases {
+        let shown: String = value.chars().take(40).collect();
+        let shown = if value.chars().count() > 40 { format!("{shown}…") } else { shown };
+        for (file, text) in [
+            ("c.toml", format!("pellet = \"s.pellet\"\n{key} = {value}\n")),
+            ("c.json", format!("{{\"pellet\": \"s.pellet\",\n \"{key}\": {value}}}")),
+        ] {
+            std::fs::write(dir.path().join(file), text).unwrap();
+            let out = pack(dir.path(), &["--case", file, "--tube-diameter", "30", "-o", "x.mcap"]);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{err}");
+            let line = format!("pack: error: {file}:2: invalid value `{shown}` for {key}: {wanted}\n");
+            assert_eq!(err, line);
+        }
+    }
+    // A table under a key, its header's line.
+    std::fs::write(dir.path().join("t.toml"), "pellet = \"s.pellet\"\n[count]\nn = 3\n").unwrap();
+    let out = pack(dir.path(), &["--case", "t.toml", "-o", "x.mcap"]);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "pack: error: t.toml:2: invalid value `{ n = 3 }` for count: expected a whole number from 1 to 1000000\n"
+    );
+    assert!(!dir.path().join("x.mcap").exists());
+}
