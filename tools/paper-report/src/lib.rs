@@ -138,7 +138,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         },
         OutputFile {
             path: out.join("README.md").display().to_string(),
-            bytes: page.render().into_bytes(),
+            bytes: with_kept_tail(page.render(), &out.join("README.md")).into_bytes(),
             binary: false,
             what: "report page".into(),
         },
@@ -167,4 +167,19 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
 fn parked_runs(out: &Path, missing: &[&str]) -> Vec<String> {
     let dir = out.join("parked");
     missing.iter().filter(|id| dir.join(format!("{id}.run.mcap")).is_file()).map(|id| id.to_string()).collect()
+}
+
+/// The line after which the report page is written by hand: `paper-report` keeps whatever
+/// follows it in the existing page (measured beds outside the study, such as T14).
+pub const KEPT_MARKER: &str = "<!-- written by hand below: paper-report keeps this part -->";
+
+/// The rendered page, followed by the hand-written part of the page already at `path`, if any.
+fn with_kept_tail(mut page: String, path: &std::path::Path) -> String {
+    if let Some(tail) = std::fs::read_to_string(path).ok().and_then(|t| t.find(KEPT_MARKER).map(|i| t[i..].to_string())) {
+        if !page.ends_with("\n\n") {
+            page.push('\n');
+        }
+        page.push_str(&tail);
+    }
+    page
 }
