@@ -57,7 +57,11 @@ impl Page<'_> {
     pub fn render(&self) -> String {
         let mut o = String::new();
         let _ = writeln!(o, "# Validation against Mohammadzadeh Moghaddam et al. (2018)\n");
-        let _ = writeln!(o, "Written by `{}` (regenerate with `make paper`; see tools/paper-report/README.md).\n", self.command);
+        let _ = writeln!(
+            o,
+            "Written by `{}` (regenerate with `make paper`; see tools/paper-report/README.md).\n",
+            self.command
+        );
         self.status(&mut o);
         self.comparison(&mut o);
         self.validation_tables(&mut o);
