@@ -5,12 +5,20 @@ OUT ?= out
 # Where cargo puts the release build (CARGO_TARGET_DIR if set).
 BIN := $(or $(CARGO_TARGET_DIR),target)/release
 
-.PHONY: all build pipeline test fuzz test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
+PREFIX ?= /usr/local
+TOOLS := mkpellet pack settle-check voidprof compare bedexport paper-report
+
+.PHONY: all build install pipeline test fuzz test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
 
 all: pipeline
 
 build:
 	$(CARGO) build --release --workspace --bins
+
+# The seven tools into $(PREFIX)/bin (release build; e.g. make install PREFIX=$$HOME/.local).
+install: build
+	mkdir -p $(DESTDIR)$(PREFIX)/bin
+	for t in $(TOOLS); do install -m 755 $(BIN)/$$t $(DESTDIR)$(PREFIX)/bin/$$t || exit 1; done
 
 pipeline: build
 	$(MAKE) --no-print-directory -f pipelines/default.mk BIN=$(BIN) OUT=$(OUT)
@@ -59,7 +67,7 @@ bench:
 	$(CARGO) build --release --workspace --bins
 	bash pipelines/bench-steppers.sh $(BIN)
 
-# physics.md T14 (not a test: minutes of one core): 1000 spheres in a 100 mm
+# T14 (not a test: minutes of one core): 1000 spheres in a 100 mm
 # tube, batch loading, scored against the correlations (pipelines/t14.mk).
 t14: build
 	$(MAKE) --no-print-directory -f pipelines/t14.mk BIN=$(BIN) OUT=$(OUT)/t14
@@ -69,7 +77,7 @@ t14: build
 t14-sensitivity: build
 	$(MAKE) --no-print-directory -f pipelines/t14-sensitivity.mk BIN=$(BIN) OUT=$(OUT)/t14-sensitivity
 
-# The paper's study (pipelines/paper.mk, README "The paper's study"):
+# The paper's study (pipelines/paper.mk, README "The paper's study: make paper"):
 # beds under $(PAPER_OUT), the report in $(PAPER_DOCS). REPEATS=k runs seeds
 # 1..k only. The report is written from whatever beds exist, also when some
 # failed (the exit status is still the beds'). `+` marks the recipes as

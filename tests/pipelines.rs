@@ -5,6 +5,8 @@ mod paper;
 #[path = "reliability.rs"]
 mod reliability;
 
+use std::path::Path;
+
 use pellet_tests::Scenario;
 
 #[test]
@@ -308,4 +310,59 @@ fn pack_fills_to_a_height() {
     // land on top, so the surface ends at most about one diameter higher.
     assert!((18.0..=18.0 + 12.0).contains(&top), "bed top {top} mm with {} pellets", tops.len());
     assert!(tops.len() >= 4, "{} pellets", tops.len());
+}
+
+/// The quick-start block of README.md (the ```sh block after `<!-- quick-start`), as written.
+fn readme_quick_start() -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../README.md");
+    let readme = std::fs::read_to_string(&path).unwrap();
+    let start = readme.find("<!-- quick-start").expect("README.md has no <!-- quick-start --> marker");
+    let mut lines = readme[start..].lines().skip(1);
+    assert_eq!(lines.next(), Some("```sh"), "the quick-start marker must precede a ```sh block");
+    let block: Vec<&str> = lines.take_while(|l| *l != "```").collect();
+    assert!(!block.is_empty(), "empty quick-start block");
+    block.join("\n") + "\n"
+}
+
+/// The README's quick start runs verbatim in an empty directory with the tools on PATH, every
+/// command succeeds, and every file its commands name as an output is written.
+#[test]
+fn the_readme_quick_start_runs_as_written() {
+    let block = readme_quick_start();
+    let s = Scenario::new();
+    let bin_dir = pellet_tests::bin("pack").parent().unwrap().to_path_buf();
+    let path = std::env::join_paths(
+        std::iter::once(bin_dir).chain(std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())),
+    )
+    .unwrap();
+    let out = std::process::Command::new("bash")
+        .args(["-e", "-u", "-o", "pipefail", "-c", &block])
+        .current_dir(s.path())
+        .env("PATH", path)
+        .stdin(std::process::Stdio::null())
+        .output()
+        .expect("run bash");
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(0), "quick start failed:\n{block}\nstdout:\n{stdout}\nstderr:\n{stderr}");
+    // Every output the block names (-o, --csv, --summary, --plot), and what the README says
+    // pack, settle-check and compare write and print.
+    let words: Vec<&str> = block.split_whitespace().collect();
+    let mut outputs: Vec<String> = words
+        .windows(2)
+        .filter(|w| ["-o", "--csv", "--summary", "--plot"].contains(&w[0]))
+        .map(|w| w[1].to_string())
+        .collect();
+    assert!(outputs.len() >= 8, "{outputs:?}");
+    outputs.extend(["report/scores.csv", "report/scores.json", "report/report.md"].map(String::from));
+    for file in &outputs {
+        let path = s.file(file);
+        assert!(path.exists(), "the quick start did not write {file}");
+        assert!(path.is_dir() || std::fs::metadata(&path).unwrap().len() > 0, "{file} is empty");
+    }
+    assert!(stdout.contains("settled at"), "{stdout}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(s.file("summary.json")).unwrap()).unwrap();
+    let porosity = summary["bulk_porosity"].as_f64().unwrap();
+    assert!((0.35..0.6).contains(&porosity), "bulk porosity {porosity}");
+    assert!(summary["window_rule"].as_str().unwrap().starts_with("default"), "{summary}");
 }

@@ -172,7 +172,7 @@ pub struct Args {
 enum ModelArg {
     /// The paper's model: dynamic Coulomb friction only, no velocity bias.
     Paper,
-    /// Static friction at resting contacts, stick clamp, velocity bias (physics.md).
+    /// Static friction at resting contacts, stick clamp, velocity bias.
     Recommended,
 }
 

@@ -138,7 +138,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         },
         OutputFile {
             path: out.join("README.md").display().to_string(),
-            bytes: page.render().into_bytes(),
+            bytes: with_kept_tail(page.render(), &out.join("README.md")).into_bytes(),
             binary: false,
             what: "report page".into(),
         },
@@ -167,4 +167,42 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
 fn parked_runs(out: &Path, missing: &[&str]) -> Vec<String> {
     let dir = out.join("parked");
     missing.iter().filter(|id| dir.join(format!("{id}.run.mcap")).is_file()).map(|id| id.to_string()).collect()
+}
+
+/// The line after which the report page is written by hand: `paper-report` keeps whatever
+/// follows it in the existing page (measured beds outside the study, such as T14).
+pub const KEPT_MARKER: &str = "<!-- written by hand below: paper-report keeps this part -->";
+
+/// The rendered page, followed by the hand-written part of the page already at `path`, if any.
+fn with_kept_tail(mut page: String, path: &std::path::Path) -> String {
+    if let Some(tail) = std::fs::read_to_string(path).ok().and_then(|t| t.find(KEPT_MARKER).map(|i| t[i..].to_string()))
+    {
+        if !page.ends_with("\n\n") {
+            page.push('\n');
+        }
+        page.push_str(&tail);
+    }
+    page
+}
+
+#[cfg(test)]
+mod kept_tail_tests {
+    use super::*;
+
+    #[test]
+    fn the_hand_written_part_after_the_marker_is_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("README.md");
+        // No page yet, or one without the marker: the rendered page alone.
+        assert_eq!(with_kept_tail("# New\n".into(), &path), "# New\n");
+        std::fs::write(&path, "# Old\n\nold numbers\n").unwrap();
+        assert_eq!(with_kept_tail("# New\n".into(), &path), "# New\n");
+        // With the marker: the new page, then the marker and what follows it.
+        std::fs::write(&path, format!("# Old\n\n{KEPT_MARKER}\n\n## By hand\n")).unwrap();
+        let page = with_kept_tail("# New\n".into(), &path);
+        assert_eq!(page, format!("# New\n\n{KEPT_MARKER}\n\n## By hand\n"));
+        // Written again over itself, it stays the same.
+        std::fs::write(&path, &page).unwrap();
+        assert_eq!(with_kept_tail("# New\n".into(), &path), page);
+    }
 }

@@ -57,7 +57,11 @@ impl Page<'_> {
     pub fn render(&self) -> String {
         let mut o = String::new();
         let _ = writeln!(o, "# Validation against Mohammadzadeh Moghaddam et al. (2018)\n");
-        let _ = writeln!(o, "Written by `{}` (regenerate with `make paper`; see the project README).\n", self.command);
+        let _ = writeln!(
+            o,
+            "Written by `{}` (regenerate with `make paper`; see tools/paper-report/README.md).\n",
+            self.command
+        );
         self.status(&mut o);
         self.comparison(&mut o);
         self.validation_tables(&mut o);
@@ -133,7 +137,7 @@ impl Page<'_> {
             "- Machine: this report was written on {}. The compute time above was measured on the machines of the sessions that ran each bed, all of this kind (2 logical cores) but not all of one CPU model (see `docs/paper-study-log.md`), so it mixes machines.",
             self.machine
         );
-        let _ = writeln!(o, "- Engine defaults for every bed (no per-bed tuning): `pack`'s defaults unless the table row sets COR, friction or disturbances; contact model `recommended` (the paper's model does not let a poured bed settle; see the project README).\n");
+        let _ = writeln!(o, "- Engine defaults for every bed (no per-bed tuning): `pack`'s defaults unless the table row sets COR, friction or disturbances; contact model `recommended` (the paper's model does not let a poured bed settle; see docs/engine.md, Contact model).\n");
     }
 
     fn comparison(&self, o: &mut String) {
@@ -184,7 +188,7 @@ impl Page<'_> {
             }
         }
         let _ = writeln!(o, "\nMRE is the paper's measure: the *maximum* over the tubes of |ε_mean − ε_Dixon|/ε_Dixon, ε_mean the mean over seeds of the bulk porosity over the row's voidprof window (z = 0–100 mm for the Table 3 beds). Spheres use N = D/dp, cylinders N = D/dpv (Dixon's own N). Rings: Dixon's hollow-cylinder coefficients are not available here, so rings are scored against the ring-envelope estimate (Dixon's cylinder form for the solid envelope, the hole added as void) — an approximation of ours, not literature. Profiles: ε_b of de Klerk fitted so that the correlation's cross-section mean equals the bed's bulk porosity; Mueller uses its own ε_b(N). Where a target is missed the numbers above say by how much; the beds were not tuned per case.\n");
-        let _ = writeln!(o, "Known reasons for misses, to weigh with the numbers: cylinder and ring beds come to rest only since 2026-11-24, and while they are poured their contact forces are less accurate than in sphere beds (large islands end their friction iteration unconverged; once an island is at rest in friction it is solved to the tolerance; project README, Known limits), so their porosities say something about the engine as well as about the method; beds listed above as not settled were measured at their last frame; with few seeds (`REPEATS`) the mean carries the spread shown in the per-tube table; and the loading is gentler than the paper's: `pack` lets each pellet fall 30 mm onto the bed where the paper releases its pellets above the tube, and in narrow tubes a higher drop packs spheres denser (the loading table's drop-height rows, same tubes and seeds). Finally, Dixon's correlation is one of several, and they disagree by more than the targets in narrow tubes: the per-tube table gives the range of the grade A and B correlations at each tube's N and says whether our mean lies inside it.\n");
+        let _ = writeln!(o, "Known reasons for misses, to weigh with the numbers: cylinder and ring beds came to rest only late in the study, and while they are poured their contact forces are less accurate than in sphere beds (large islands end their friction iteration unconverged; once an island is at rest in friction it is solved to the tolerance; docs/engine.md, Known limits), so their porosities say something about the engine as well as about the method; beds listed above as not settled were measured at their last frame; with few seeds (`REPEATS`) the mean carries the spread shown in the per-tube table; and the loading is gentler than the paper's: `pack` lets each pellet fall 30 mm onto the bed where the paper releases its pellets above the tube, and in narrow tubes a higher drop packs spheres denser (the loading table's drop-height rows, same tubes and seeds). Finally, Dixon's correlation is one of several, and they disagree by more than the targets in narrow tubes: the per-tube table gives the range of the grade A and B correlations at each tube's N and says whether our mean lies inside it.\n");
     }
 
     fn validation_tables(&self, o: &mut String) {

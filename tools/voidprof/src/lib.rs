@@ -51,9 +51,11 @@ pub struct Args {
     /// Inner tube diameter for --poses (mm).
     #[arg(long, requires = "poses")]
     pub tube_diameter: Option<f64>,
-    /// Axial window z0,z1 (mm): the paper counts from the bottom to 100 mm.
-    #[arg(long, default_value = "0,100", allow_hyphen_values = true)]
-    pub window: String,
+    /// Axial window z0,z1 (mm) [default: from the floor to one pellet diameter dp below the
+    /// bed's top (its highest pellet point), leaving out the loose top layer; the lowest top of
+    /// several beds; the whole bed when it is under 2 dp tall]. The paper counts 0,100.
+    #[arg(long, allow_hyphen_values = true)]
+    pub window: Option<String>,
     /// Radial step (mm), from the wall inward [default: dp/50].
     #[arg(long)]
     pub dr: Option<f64>,
@@ -121,6 +123,9 @@ pub struct Measurement {
     pub tube_diameter: f64,
     /// The window (m).
     pub window: (f64, f64),
+    /// How the window was chosen: `None` when given by `--window`, else the default's rule
+    /// with the bed top it was taken from.
+    pub window_rule: Option<String>,
     /// Whether meshes were used throughout.
     pub mesh: bool,
 }
@@ -135,6 +140,9 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     pellet_cli::refuse_clashing_outputs(inputs, outputs)?;
     let beds = read_beds(&args)?;
     let m = measure(&args, beds)?;
+    if let Some(rule) = &m.window_rule {
+        eprintln!("voidprof: window {:.3} to {:.3} mm ({rule})", m.window.0 * 1e3, m.window.1 * 1e3);
+    }
     let mut outputs = vec![OutputFile {
         path: args.output.clone(),
         bytes: output::radial_csv(&m).into_bytes(),
@@ -229,7 +237,10 @@ pub fn read_beds(args: &Args) -> anyhow::Result<Vec<(String, Bed)>> {
 
 /// Measures every bed and averages the profiles.
 pub fn measure(args: &Args, beds: Vec<(String, Bed)>) -> anyhow::Result<Measurement> {
-    let window = parse_window(&args.window)?;
+    let (window, window_rule) = match &args.window {
+        Some(text) => (parse_window(text)?, None),
+        None => default_window(&beds)?,
+    };
     let optional = |flag: &str, v: Option<f64>| v.map(|v| positive_mm(flag, v).map(|v| v * MM)).transpose();
     let geometry = if args.mesh { Geometry::Mesh } else { Geometry::Auto };
     let params = ProfileParams {
@@ -262,7 +273,26 @@ pub fn measure(args: &Args, beds: Vec<(String, Bed)>) -> anyhow::Result<Measurem
     }
     let profiles: Vec<VoidProfile> = results.iter().map(|b| b.profile.clone()).collect();
     let stats = average_profiles(&profiles)?;
-    Ok(Measurement { beds: results, stats, dp, dpv, shape, tube_diameter, window, mesh: args.mesh })
+    Ok(Measurement { beds: results, stats, dp, dpv, shape, tube_diameter, window, window_rule, mesh: args.mesh })
+}
+
+/// The window when `--window` is not given: from the floor to one pellet diameter dp below
+/// the top of the bed (its highest pellet point), so that the loose top layer is left out;
+/// over several beds the lowest top; a bed under 2 dp tall is taken whole. Returns the window
+/// (m) and the rule with the numbers it used, for the summary and stderr.
+pub fn default_window(beds: &[(String, Bed)]) -> anyhow::Result<((f64, f64), Option<String>)> {
+    let (first_source, first_bed) = beds.first().context("no beds")?;
+    let (dp, _) = reference_diameters(first_bed).with_context(|| first_source.clone())?;
+    let top = beds.iter().map(|(_, bed)| pellet_analysis::bed_top(bed)).fold(f64::INFINITY, f64::min);
+    if top <= 0.0 {
+        bail!("{first_source}: the bed has no pellets above the floor (set a window with --window z0,z1 in mm)");
+    }
+    let (z1, rule) = if top >= 2.0 * dp {
+        (top - dp, format!("default: z = 0 to the bed's top ({:.3} mm) minus dp ({:.3} mm)", top / MM, dp / MM))
+    } else {
+        (top, format!("default: z = 0 to the bed's top ({:.3} mm); the bed is under 2 dp tall", top / MM))
+    };
+    Ok(((0.0, z1), Some(rule)))
 }
 
 #[cfg(test)]
@@ -274,7 +304,7 @@ mod tests {
         let a =
             Args::try_parse_from(["voidprof", "a.packing", "b.packing", "--window", "10,90", "--dr", "0.1"]).unwrap();
         assert_eq!(a.packings, ["a.packing", "b.packing"]);
-        assert_eq!(parse_window(&a.window).unwrap(), (0.010, 0.090));
+        assert_eq!(parse_window(a.window.as_deref().unwrap()).unwrap(), (0.010, 0.090));
         assert_eq!(a.dr, Some(0.1));
         assert_eq!(a.output, "-");
         let p =

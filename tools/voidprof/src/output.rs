@@ -117,6 +117,7 @@ pub fn summary(m: &Measurement) -> Value {
         "bulk_porosity_std": bulk_std,
         "profile_porosity": mean_profile_porosity(m),
         "window_mm": [m.window.0 * 1e3, m.window.1 * 1e3],
+        "window_rule": m.window_rule.as_deref().unwrap_or("given by --window"),
         "pellets": count(&pellets),
         "pellets_in_window": count(&in_window),
         "shape": m.shape,

@@ -222,6 +222,41 @@ fn several_beds_give_the_mean_and_the_spread() {
     assert!(s["bulk_porosity_std"].as_f64().unwrap() > 0.0);
 }
 
+/// Without --window the window runs from the floor to one pellet diameter below the bed's top:
+/// a bed shorter than the paper's 100 mm is measured, not refused.
+#[test]
+fn the_default_window_fits_a_short_bed() {
+    let dir = tempfile::tempdir().unwrap();
+    // Three layers of 10 mm spheres: the top is at 30 mm, so the window is 0 to 20 mm.
+    let bed = simple_cubic(&sphere(), 40.0 * MM, 10.0 * MM, 3);
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
+    let out = voidprof(dir.path(), &["bed.packing", "-o", "p.csv", "--summary", "s.json"], None);
+    assert_ok(&out);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("window 0.000 to 20.000 mm (default: z = 0 to the bed's top (30.000 mm) minus dp"), "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    let w = s["window_mm"].as_array().unwrap();
+    assert!(w[0].as_f64().unwrap() == 0.0 && (w[1].as_f64().unwrap() - 20.0).abs() < 1e-9, "{w:?}");
+    assert!(s["window_rule"].as_str().unwrap().starts_with("default: z = 0 to the bed's top"), "{s}");
+    // The same numbers as the window given by hand, which the summary says was given.
+    let given = voidprof(dir.path(), &["bed.packing", "--window", "0,20", "-o", "q.csv", "--summary", "t.json"], None);
+    assert_ok(&given);
+    let t: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("t.json")).unwrap()).unwrap();
+    assert_eq!(t["window_rule"], "given by --window");
+    assert_eq!(s["bulk_porosity"], t["bulk_porosity"]);
+    let read = |f: &str| std::fs::read_to_string(dir.path().join(f)).unwrap();
+    assert_eq!(read("p.csv"), read("q.csv"));
+    // A bed under two pellet diameters tall is taken whole.
+    let low = simple_cubic(&sphere(), 40.0 * MM, 10.0 * MM, 1);
+    std::fs::write(dir.path().join("low.packing"), packing_bytes(&low)).unwrap();
+    let out = voidprof(dir.path(), &["low.packing", "--summary", "-", "-o", "/dev/null"], None);
+    assert_ok(&out);
+    let l: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!((l["window_mm"][1].as_f64().unwrap() - 10.0).abs() < 1e-9, "{l}");
+}
+
 #[test]
 fn bad_input_exits_2_with_one_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
@@ -235,8 +270,6 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
         (&["missing.packing"], "missing.packing"),
         (&["cut.packing", "--window", "0,30"], "is truncated (its data ends early)"),
         (&["text.packing"], "not a packbed packing file"),
-        // The default window (0 to 100 mm) is above a 30 mm bed.
-        (&["bed.packing"], "outside the bed"),
         (&["bed.packing", "--window", "10,40"], "outside the bed"),
         (&["bed.packing", "--window", "-5,10"], "outside the bed"),
         (&["bed.packing", "--window", "20,10"], "z1 > z0"),
