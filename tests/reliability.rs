@@ -199,7 +199,8 @@ fn messages_name_the_problem_in_the_users_terms() {
     std::fs::write(s.file("ten.mcap"), &mcap[..10]).unwrap();
     s.run("settle-check", &["ten.mcap"]).fails_with("ten.mcap: truncated: the file ends within its MCAP header");
     std::fs::write(s.file("c.toml"), "tube-diameter = 30\ncount = 3\ncor = \"x\"\n").unwrap();
-    s.run("pack", &["--case", "c.toml", "--pellet", "s.pellet", "-o", "c.mcap"]).fails_with("c.toml:3: bad TOML");
+    s.run("pack", &["--case", "c.toml", "--pellet", "s.pellet", "-o", "c.mcap"])
+        .fails_with("c.toml:3: invalid value `\"x\"` for cor: expected a number from 0 to 1");
     let pack = ["--pellet", "s.pellet", "--tube-diameter", "30", "--count", "2", "--quiet", "-o", "t.mcap"];
     s.run("pack", &[&pack[..], &["--max-time", "0.001"]].concat()).fails_with(
         "--max-time must be a whole number of the 0.005 s engine steps (at least 0.005 s; got 0.001 s): give 0.005",
