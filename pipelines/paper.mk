@@ -1,4 +1,4 @@
-# The paper's study (Mohammadzadeh Moghaddam et al. 2018; issue 8), bed by
+# The paper's study (Mohammadzadeh Moghaddam et al. 2018), bed by
 # bed: one case file per bed made from the table $(TABLE), then
 # pack → settle-check → voidprof, and paper-report over whatever has
 # finished. Every file is a Make target, so a re-run skips finished beds and
@@ -23,7 +23,7 @@ OUT ?= out/paper
 DOCS ?= docs/validation
 ARCHIVE ?= $(DOCS)/runs
 # Partial runs parked by `park` (pack --park: the checkpoint without the
-# frames), committed so that a bed longer than a session goes on elsewhere.
+# frames), committed so that a bed longer than one machine's slot goes on elsewhere.
 PARKED ?= $(DOCS)/parked
 TABLE ?= pipelines/paper/beds.csv
 REPEATS ?=

@@ -1,4 +1,4 @@
-# The sensitivity half of physics.md T14: the T14 bed (1000 spheres of 10 mm,
+# The sensitivity half of T14: the T14 bed (1000 spheres of 10 mm,
 # D = 100 mm, batch loading; pipelines/t14.mk) packed again with one setting
 # changed at a time, to show how much the bulk porosity depends on εp, on the
 # pellet–pellet friction μ and on the friction rule, against the spread of

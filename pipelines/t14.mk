@@ -1,4 +1,4 @@
-# T14 of physics.md §7 (integration sanity, not analytic): 1000 spheres of
+# T14 (integration sanity, not analytic): 1000 spheres of
 # 10 mm in a 100 mm tube (N = D/d = 10), every pellet released at once as a
 # loose cloud (`pack --scheme batch`), then the chain: settle-check, voidprof,
 # compare. Checks, printed at the end: the bulk porosity against the grade A/B

@@ -1,4 +1,4 @@
-//! Issue 8: `pipelines/paper.mk` and `paper-report` on a few small real beds.
+//! The paper's study: `pipelines/paper.mk` and `paper-report` on a few small real beds.
 //! The pipeline runs through make with the test profile's binaries, on a
 //! table of 10 mm spheres in a 25 mm tube filled to 20 mm; the report's
 //! numbers are recomputed here from the beds' own files.
@@ -123,7 +123,7 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
     );
     assert!(!page.contains("val-sphere-D25-s1,") && !page.contains("cor-sphere-D25-c0.3-s1,"), "{page}");
 
-    // summary.json: exactly the issue's schema.
+    // summary.json: exactly the schema paper-report documents.
     let sum = json(s.file("docs/summary.json"));
     assert_eq!(keys(&sum), ["compute_seconds", "machine", "profiles", "shapes"]);
     assert_eq!(keys(&sum["shapes"]), ["cylinder", "ring", "sphere"]);
@@ -231,7 +231,7 @@ fn issue_8_paper_pipeline_and_report_on_small_beds() {
 }
 
 /// A bed whose make is interrupted (SIGTERM to make and everything under it, as when a machine
-/// or a session stops) is continued by the next make from pack's checkpoint: the trajectory
+/// or its time slot stops) is continued by the next make from pack's checkpoint: the trajectory
 /// equals an uninterrupted run's, and pack.time adds up both legs.
 #[test]
 fn an_interrupted_paper_bed_is_resumed_by_the_next_make() {

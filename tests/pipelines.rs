@@ -4,6 +4,8 @@
 mod paper;
 #[path = "reliability.rs"]
 mod reliability;
+#[path = "repository.rs"]
+mod repository;
 
 use std::path::Path;
 

@@ -1,4 +1,4 @@
-//! `paper-report`: the paper's validation study (issue 8) as a report, from
+//! `paper-report`: the paper's validation study as a report, from
 //! whatever beds `pipelines/paper.mk` has finished.
 //!
 //! [`table`] reads the bed table, [`collect`] finds each bed's files,
@@ -37,7 +37,7 @@ existing beds/<id>.csv is left as it is). Beds of the table without a summary
 in any --runs directory are listed as missing.
 Exit codes: 0 success, 2 error.";
 
-/// Write the validation report of the paper's study (issue 8) from the
+/// Write the validation report of the paper's study from the
 /// beds that `make paper` (pipelines/paper.mk) has finished.
 #[derive(Debug, Parser)]
 #[command(name = "paper-report", version = pellet_cli::LONG_VERSION, after_help = EXAMPLES)]

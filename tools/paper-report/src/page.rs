@@ -9,7 +9,7 @@ use crate::analysis::{ProfileResult, StudySeries, TubeResult};
 use crate::collect::Group;
 use crate::stats::mean_std;
 
-/// The paper's maximum relative errors vs Dixon (fractions) and issue 8's targets.
+/// The paper's maximum relative errors vs Dixon (fractions) and packbed's targets.
 pub const PAPER_MRE: [(Shape, f64, f64); 3] =
     [(Shape::Sphere, 0.039, 0.03), (Shape::Cylinder, 0.176, 0.08), (Shape::Ring, 0.066, 0.05)];
 
@@ -130,11 +130,11 @@ impl Page<'_> {
             );
         }
         let _ = writeln!(o, "- {}", builds_line(&beds));
-        // The records do not say which machine ran each bed, and the sessions' machines differ
-        // in CPU model (AMD EPYC for every report up to 2026-11-25, Intel Xeon since).
+        // The records do not say which machine ran each bed, and the machines that ran them
+        // differ in CPU model (AMD EPYC for the earlier beds, Intel Xeon for the later).
         let _ = writeln!(
             o,
-            "- Machine: this report was written on {}. The compute time above was measured on the machines of the sessions that ran each bed, all of this kind (2 logical cores) but not all of one CPU model (see `docs/paper-study-log.md`), so it mixes machines.",
+            "- Machine: this report was written on {}. The compute time above was measured on the machines that ran each bed, all of this kind (2 logical cores) but not all of one CPU model (see `docs/paper-study-log.md`), so it mixes machines.",
             self.machine
         );
         let _ = writeln!(o, "- Engine defaults for every bed (no per-bed tuning): `pack`'s defaults unless the table row sets COR, friction or disturbances; contact model `recommended` (the paper's model does not let a poured bed settle; see docs/engine.md, Contact model).\n");
@@ -142,7 +142,7 @@ impl Page<'_> {
 
     fn comparison(&self, o: &mut String) {
         let _ = writeln!(o, "## Our figures beside the paper's\n");
-        let _ = writeln!(o, "| quantity | ours | paper | target (issue 8) | target |");
+        let _ = writeln!(o, "| quantity | ours | paper | packbed's target | met |");
         let _ = writeln!(o, "|---|---|---|---|---|");
         for (shape, paper, target) in PAPER_MRE {
             let found = self.validation.iter().find(|v| v.0 == shape);
@@ -166,7 +166,7 @@ impl Page<'_> {
         for p in self.profiles {
             for s in &p.scores {
                 let (reference, rmse) = (&s.reference, s.rmse);
-                // Issue 8's target is for spheres against de Klerk only.
+                // packbed's profile target is for spheres against de Klerk only.
                 let de_klerk_sphere = p.shape == Shape::Sphere && reference == "de-klerk-2003";
                 let paper = match p.shape {
                     Shape::Sphere => "R² > 0.85, RMSE < 0.08",

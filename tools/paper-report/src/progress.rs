@@ -1,6 +1,6 @@
 //! The report's progress table: for each study, shape and tube, how many of the planned beds
 //! have finished, how many of those did not settle, their compute time, and which `pack` builds
-//! ran them. The study ran over many sessions while the engine changed, so the page must show
+//! ran them. The study's beds were made over weeks while the engine changed, so the page must show
 //! which parts of it come from which engine, not only one count for the whole study.
 
 use std::fmt::Write;

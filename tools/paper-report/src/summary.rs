@@ -1,4 +1,4 @@
-//! `summary.json`, in exactly the schema of issue 8:
+//! `summary.json`, in exactly this schema (the study's tests and scripts read it):
 //!
 //! ```text
 //! {"shapes": {"sphere"|"cylinder"|"ring": {"mre_dixon": fraction,
