@@ -144,6 +144,9 @@ pub fn create_output_dir(flag: &str, dir: &std::path::Path) -> anyhow::Result<()
     }
 }
 
+/// A number as messages show it (scientific when huge or tiny, not three hundred digits).
+pub use pellet_geom::math::shown;
+
 /// Checks a length flag in mm: finite and > 0. The error names the flag.
 pub fn positive_mm(flag: &str, value: f64) -> anyhow::Result<f64> {
     if value.is_finite() && value > 0.0 {

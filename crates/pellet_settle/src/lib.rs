@@ -97,17 +97,24 @@ impl SettleCriteria {
         }
     }
 
-    /// Checks that every threshold is finite and positive.
+    /// Checks that every threshold is finite and in its range: above 0 and at most 1000 s, 1
+    /// (a fraction), 1000 J and 1000 m/s (the same as `pack`'s flags).
     pub fn validate(&self) -> Result<(), String> {
         let checks = [
-            ("--settle-window", self.window_s, "s"),
-            ("--settle-tolerance", self.relative_tolerance, ""),
-            ("--ke-bound", self.ke_bound_j, "J"),
-            ("--max-speed", self.max_speed_m_s, "m/s"),
+            ("--settle-window", self.window_s, 1e3, " s"),
+            ("--settle-tolerance", self.relative_tolerance, 1.0, ""),
+            ("--ke-bound", self.ke_bound_j, 1e3, " J"),
+            ("--max-speed", self.max_speed_m_s, 1e3, " m/s"),
         ];
-        for (flag, v, unit) in checks {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{flag} must be a finite number > 0 {unit} (got {v})"));
+        for (flag, v, hi, unit) in checks {
+            if !(v.is_finite() && v > 0.0 && v <= hi) {
+                // A typed 1e300 is shown as such, not as three hundred digits.
+                let got = if v != 0.0 && v.is_finite() && !(1e-6..1e15).contains(&v.abs()) {
+                    format!("{v:e}")
+                } else {
+                    format!("{v}")
+                };
+                return Err(format!("{flag} must be in (0, {hi}]{unit} (got {got})"));
             }
         }
         Ok(())

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use clap::{Parser, ValueEnum};
 
-use pellet_cli::{positive_mm, Outcome};
+use pellet_cli::{mm_in_range, shown, Outcome};
 use pellet_refs::radial::EpsBSource;
 use pellet_refs::registry::{self, Reference};
 use pellet_refs::scoring::{self, Bed, EpsBChoice, Score, ZUnit};
@@ -167,14 +167,20 @@ pub fn run(args: Args) -> Result<Outcome> {
     if out_dir.as_os_str() == "-" {
         bail!("-o takes a directory (the report has several files), not - for stdout");
     }
+    // Lengths as pack and mkpellet take them: up to 10 m.
     for (flag, v) in [("--dp", args.dp), ("--dpv", args.dpv), ("--tube-diameter", args.tube_diameter)] {
         if let Some(v) = v {
-            positive_mm(flag, v)?;
+            mm_in_range(flag, v, 0.0, 1e4, false, "")?;
         }
     }
     if let Some(r) = args.ring_di_do {
         if !(r > 0.0 && r < 1.0) {
-            bail!("--ring-di-do must lie in (0, 1) (got {r})");
+            bail!("--ring-di-do must lie in (0, 1) (got {})", shown(r));
+        }
+    }
+    if let Some(phi) = args.sphericity {
+        if !(phi > 0.0 && phi <= 1.0) {
+            bail!("--sphericity must lie in (0, 1] (got {}): 1 for spheres, less for any other shape", shown(phi));
         }
     }
     let eps_b_mode = parse_eps_b(&args.eps_b)?;

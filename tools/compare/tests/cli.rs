@@ -389,7 +389,9 @@ fn bad_input_is_a_one_line_error_with_exit_2_and_no_report() {
         (&["zonly.csv", "--ref", "mueller"], "mueller-1992 needs N"),
         (&["zonly.csv", "--ref", "de-klerk"], "needs the bed's bulk porosity"),
         (&["--summary", "bad.json", "--fail-above", "rsme=0.1"], "unknown metric \"rsme\""),
-        (&["ok.csv", "--dp", "-3"], "--dp must be a finite number > 0 mm"),
+        (&["ok.csv", "--dp", "-3"], "--dp must be in (0, 10000] mm (got -3)"),
+        (&["ok.csv", "--dp", "1e300"], "--dp must be in (0, 10000] mm (got 1e300)"),
+        (&["ok.csv", "--dp", "10", "--sphericity", "5"], "--sphericity must lie in (0, 1] (got 5)"),
         (&[], "nothing to compare"),
     ];
     for (args, needle) in cases {

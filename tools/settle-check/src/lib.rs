@@ -204,8 +204,16 @@ fn criteria(args: &Args, t: &Trajectory, types: &[pellet_geom::Pellet]) -> anyho
 /// settle time, or the last frame when the bed never settled.
 fn choose_frame<'a>(t: &'a Trajectory, report: &SettleReport, at: Option<f64>) -> anyhow::Result<Option<&'a Frame>> {
     if let Some(time) = at {
-        if !time.is_finite() {
-            bail!("--at must be a finite time in s (got {time})");
+        let (first, last) = match (t.frames.first(), t.frames.last()) {
+            (Some(a), Some(b)) => (a.time_s, b.time_s),
+            _ => bail!("--at: the trajectory holds no frame"),
+        };
+        // Far beyond the frames every frame is equally far from the time, and the first won: the
+        // time must lie within them, give or take one frame's spacing.
+        let spacing = (last - first) / (t.frames.len().max(2) - 1) as f64;
+        if !(time.is_finite() && time >= first - spacing && time <= last + spacing) {
+            let got = if time.is_finite() && time.abs() >= 1e15 { format!("{time:e}") } else { format!("{time}") };
+            bail!("--at must be a time in s within the recorded frames, {first:.4} to {last:.4} s (got {got})");
         }
         return Ok(t.frames.iter().min_by(|a, b| (a.time_s - time).abs().total_cmp(&(b.time_s - time).abs())));
     }

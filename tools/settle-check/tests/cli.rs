@@ -214,6 +214,19 @@ fn bad_input_is_a_one_line_error_with_exit_2() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--settle-window must be"));
     assert!(!dir.path().join("x.packing").exists());
+    // Every number has its range; a time far past the frames picked the first frame.
+    for (args, needle) in [
+        (&["--settle-tolerance", "5"][..], "--settle-tolerance must be in (0, 1] (got 5)"),
+        (&["--settle-window", "1e300"][..], "--settle-window must be in (0, 1000] s (got 1e300)"),
+        (&["--at", "1e300"][..], "--at must be a time in s within the recorded frames"),
+        (&["--at", "-3"][..], "(got -3)"),
+    ] {
+        let out = settle_check(dir.path(), &[&["bed.mcap", "-o", "x.packing"][..], args].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(needle) && err.trim_end().lines().count() == 1, "{err}");
+        assert!(!dir.path().join("x.packing").exists());
+    }
     // Usage errors (clap's) are one line too, with the flag and what it takes.
     let out = settle_check(dir.path(), &["bed.mcap", "--settle-window", "soon"]);
     let err = String::from_utf8_lossy(&out.stderr);

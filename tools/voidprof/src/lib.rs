@@ -13,7 +13,7 @@ use pellet_analysis::{
     average_profiles, bulk_porosity, coordination, orientation, reference_diameters, void_profile, BulkPorosity,
     Coordination, Geometry, OrientationHistogram, ProfileParams, ProfileStats, VoidProfile,
 };
-use pellet_cli::{parse_window, positive_mm, Outcome};
+use pellet_cli::{mm_in_range, parse_window, positive_mm, Outcome};
 use pellet_geom::{Bed, Tube};
 use pellet_io::OutputFile;
 
@@ -56,13 +56,13 @@ pub struct Args {
     /// several beds; the whole bed when it is under 2 dp tall]. The paper counts 0,100.
     #[arg(long, allow_hyphen_values = true)]
     pub window: Option<String>,
-    /// Radial step (mm), from the wall inward [default: dp/50].
+    /// Radial step (mm, up to dp/2), from the wall inward [default: dp/50].
     #[arg(long)]
     pub dr: Option<f64>,
-    /// Spacing of the sampled lines along each circle (mm) [default: dp/250].
+    /// Spacing of the sampled lines along each circle (mm, up to dp/2) [default: dp/250].
     #[arg(long)]
     pub arc: Option<f64>,
-    /// Bin height of the axial profile (mm) [default: dp/20].
+    /// Bin height of the axial profile (mm, up to dp/2) [default: dp/20].
     #[arg(long)]
     pub dz: Option<f64>,
     /// Intersect the triangle meshes even where the exact shape is known.
@@ -86,7 +86,7 @@ pub struct Args {
     /// Draw ε against (R − r)/dp to this file (.png or .svg; repeat for both).
     #[arg(long, value_name = "FILE")]
     pub plot: Vec<String>,
-    /// Surface gap below which two pellets count as touching (mm) [default: dp/100].
+    /// Surface gap below which two pellets count as touching (mm, up to dp/5) [default: dp/100].
     #[arg(long)]
     pub contact_gap: Option<f64>,
 }
@@ -241,18 +241,23 @@ pub fn measure(args: &Args, beds: Vec<(String, Bed)>) -> anyhow::Result<Measurem
         Some(text) => (parse_window(text)?, None),
         None => default_window(&beds)?,
     };
-    let optional = |flag: &str, v: Option<f64>| v.map(|v| positive_mm(flag, v).map(|v| v * MM)).transpose();
+    let (first_source, first_bed) = beds.first().context("no beds")?;
+    let (dp, dpv) = reference_diameters(first_bed).with_context(|| first_source.clone())?;
+    // Steps above half a pellet resolve nothing of the profile, and a gap above dp / 5 counts
+    // neighbours that do not touch; the lower ends are bounded by the work they ask for.
+    let ranged = |flag: &str, v: Option<f64>, hi: f64, why: &str| {
+        v.map(|v| mm_in_range(flag, v, 0.0, hi / MM, false, why).map(|v| v * MM)).transpose()
+    };
+    let step = |flag: &str, v: Option<f64>| ranged(flag, v, dp / 2.0, " (0 to dp / 2 for these pellets)");
     let geometry = if args.mesh { Geometry::Mesh } else { Geometry::Auto };
     let params = ProfileParams {
         window,
-        radial_step: optional("--dr", args.dr)?,
-        arc_step: optional("--arc", args.arc)?,
-        axial_step: optional("--dz", args.dz)?,
+        radial_step: step("--dr", args.dr)?,
+        arc_step: step("--arc", args.arc)?,
+        axial_step: step("--dz", args.dz)?,
         geometry,
     };
-    let gap = optional("--contact-gap", args.contact_gap)?;
-    let (first_source, first_bed) = beds.first().context("no beds")?;
-    let (dp, dpv) = reference_diameters(first_bed).with_context(|| first_source.clone())?;
+    let gap = ranged("--contact-gap", args.contact_gap, dp / 5.0, " (0 to dp / 5 for these pellets)")?;
     let shape = first_bed.pellet_types[0].shape.kind().to_string();
     let tube_diameter = first_bed.tube.diameter;
     let mut results = Vec::new();
