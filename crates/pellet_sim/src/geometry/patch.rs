@@ -130,6 +130,12 @@ pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
 ///
 /// `kept` (sorted features) are the points the pair had in the last step: each pick takes one
 /// of them when it does nearly as well as the best (`KEEP_SCORE`, `KEEP_DEPTH`).
+///
+/// The third and fourth points must add at least `SPREAD` of the extent as a triangle's height,
+/// from whichever points they come: a thin lens of two caps crossing each other kept a point
+/// 0.17 mm beside another of a 10 mm patch, on the same normal; their rows were nearly one, and
+/// with gaps differing by nanometres the solve moved their load from one to the other by
+/// 3e-9 N·s a sweep, never converging (`docs/engine.md`, "Contact generation").
 pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real, kept: &[u32]) -> Reduced {
     if patch.len() <= 4 {
         return Reduced::of(patch);
@@ -185,7 +191,7 @@ pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real, kept: 
     let area = |u: usize, v: usize, q: usize| n.dot(&(p(v) - p(u)).cross(&(p(q) - p(u))));
     let floor = SPREAD * extent * d1.sqrt();
     let (i2, a2) = argmax(&|k| area(i0, i1, k).abs(), floor);
-    if a2 <= 0.0 {
+    if a2 <= floor {
         return Reduced::of(&[patch[i0], patch[i1]]);
     }
     let sigma = area(i0, i1, i2).signum();
@@ -194,7 +200,7 @@ pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real, kept: 
         [(i0, i1), (i1, i2), (i2, i0)].iter().map(|&(u, v)| -sigma * area(u, v, k)).fold(Real::NEG_INFINITY, Real::max)
     };
     let (i3, a3) = argmax(&outside, floor);
-    if a3 > 0.0 {
+    if a3 > floor {
         Reduced::of(&[patch[i0], patch[i1], patch[i2], patch[i3]])
     } else {
         Reduced::of(&[patch[i0], patch[i1], patch[i2]])
