@@ -152,7 +152,7 @@ pub fn positive_mm(flag: &str, value: f64) -> anyhow::Result<f64> {
     if value.is_finite() && value > 0.0 {
         Ok(value)
     } else {
-        anyhow::bail!("{flag} must be a finite number > 0 mm (got {})", pellet_geom::math::shown(value))
+        anyhow::bail!("{flag} must be a finite number > 0 mm (got {})", shown(value))
     }
 }
 
@@ -166,20 +166,8 @@ pub fn mm_in_range(flag: &str, value: f64, lo: f64, hi: f64, lo_closed: bool, wh
     } else {
         let open = if lo_closed { "[" } else { "(" };
         // The bounds to a micrometre (dp / 50 is 0.19634954… mm for some pellets).
-        let bound = |x: f64| {
-            let t = format!("{:.3}", x);
-            if (1e-3..1e6).contains(&x.abs()) {
-                format!("{}", t.parse::<f64>().unwrap_or(x))
-            } else {
-                pellet_geom::math::shown(x)
-            }
-        };
-        anyhow::bail!(
-            "{flag} must be in {open}{}, {}] mm{why} (got {})",
-            bound(lo),
-            bound(hi),
-            pellet_geom::math::shown(value)
-        )
+        let bound = |x: f64| shown(if x.abs() >= 1e-3 { (x * 1e3).round() / 1e3 } else { x });
+        anyhow::bail!("{flag} must be in {open}{}, {}] mm{why} (got {})", bound(lo), bound(hi), shown(value))
     }
 }
 

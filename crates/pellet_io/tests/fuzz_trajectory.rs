@@ -5,11 +5,7 @@
 mod common;
 
 use common::*;
-use pellet_geom::Tube;
-use pellet_io::{
-    decode_pellet, read_trajectory, read_trajectory_with, EnergyRecord, Frame, ReadOptions, Trajectory,
-    TrajectoryHeader, TrajectoryWriter,
-};
+use pellet_io::{decode_pellet, read_trajectory, read_trajectory_with, EnergyRecord, Frame, ReadOptions, Trajectory};
 use proptest::prelude::*;
 
 /// A run of five pellets over 0.3 s: a frame and an energy record every 0.01 s, a checkpoint
@@ -17,18 +13,7 @@ use proptest::prelude::*;
 fn trajectory() -> Vec<u8> {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("run.mcap");
-    let provenance = provenance();
-    let files = [pellet_bytes()];
-    let tube = Tube { diameter: 0.04, lid_height: None };
-    let header = TrajectoryHeader {
-        provenance: &provenance,
-        config_json: "{}",
-        seed: 1,
-        build: "git fuzz",
-        pellet_files: &files,
-        tube: &tube,
-    };
-    let mut w = TrajectoryWriter::create(&path, &header).unwrap();
+    let mut w = trajectory_writer(&path);
     for i in 0..30 {
         let t = i as f64 * 0.01;
         let frame = Frame {

@@ -1,5 +1,7 @@
 //! Pellet files and mesh exports survive a round trip exactly.
 
+mod common;
+
 use pellet_geom::{Pellet, Resolution, ShapeSpec};
 use pellet_io::{decode_pellet, encode_pellet, obj_bytes, read_mesh, stl_bytes, MeshFormat, PelletFile, Provenance};
 
@@ -97,26 +99,14 @@ fn packing_file_round_trip_and_validation() {
 #[cfg(unix)]
 #[test]
 fn a_trajectory_to_a_fifo_is_written_in_place() {
-    use pellet_geom::Tube;
-    use pellet_io::{read_trajectory, Frame, TrajectoryHeader, TrajectoryWriter};
+    use pellet_io::{read_trajectory, Frame};
     use std::os::unix::fs::FileTypeExt;
     let dir = tempfile::tempdir().unwrap();
     let fifo = dir.path().join("run.mcap");
     assert!(std::process::Command::new("mkfifo").arg(&fifo).status().expect("run mkfifo").success());
     let path = fifo.clone();
     let reader = std::thread::spawn(move || std::fs::read(path).unwrap());
-    let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
-    let files = [encode_pellet(&file(ShapeSpec::Sphere { diameter_mm: 10.0 })).unwrap()];
-    let tube = Tube { diameter: 0.04, lid_height: None };
-    let header = TrajectoryHeader {
-        provenance: &provenance,
-        config_json: "{}",
-        seed: 1,
-        build: "git test",
-        pellet_files: &files,
-        tube: &tube,
-    };
-    let mut w = TrajectoryWriter::create(&fifo, &header).unwrap();
+    let mut w = common::trajectory_writer(&fifo);
     w.write_frame(&Frame { time_s: 0.5, ..Frame::default() }).unwrap();
     w.finish().unwrap();
     assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo(), "the FIFO was replaced");
@@ -130,22 +120,10 @@ fn a_trajectory_to_a_fifo_is_written_in_place() {
 /// A trajectory cut inside its first records (a run killed at once) says it is truncated.
 #[test]
 fn a_trajectory_cut_in_its_header_is_reported_truncated() {
-    use pellet_geom::Tube;
-    use pellet_io::{read_trajectory, TrajectoryHeader, TrajectoryWriter};
+    use pellet_io::read_trajectory;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("run.mcap");
-    let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
-    let files = [encode_pellet(&file(ShapeSpec::Sphere { diameter_mm: 10.0 })).unwrap()];
-    let tube = Tube { diameter: 0.04, lid_height: None };
-    let header = TrajectoryHeader {
-        provenance: &provenance,
-        config_json: "{}",
-        seed: 1,
-        build: "git test",
-        pellet_files: &files,
-        tube: &tube,
-    };
-    TrajectoryWriter::create(&path, &header).unwrap().finish().unwrap();
+    common::trajectory_writer(&path).finish().unwrap();
     let bytes = std::fs::read(&path).unwrap();
     for cut in [10, 12, 20] {
         let Err(e) = read_trajectory(&bytes[..cut], "cut.mcap") else { panic!("cut at {cut} read") };
@@ -199,22 +177,10 @@ fn chunk_offsets(bytes: &[u8]) -> Vec<usize> {
 /// the damage is named.
 #[test]
 fn a_damaged_chunk_is_skipped_when_asked() {
-    use pellet_geom::Tube;
-    use pellet_io::{read_trajectory, read_trajectory_with, Frame, ReadOptions, TrajectoryHeader, TrajectoryWriter};
+    use pellet_io::{read_trajectory, read_trajectory_with, Frame, ReadOptions};
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("run.mcap");
-    let provenance = Provenance { tool: "test".into(), version: "0".into(), args: vec![] };
-    let files = [encode_pellet(&file(ShapeSpec::Sphere { diameter_mm: 10.0 })).unwrap()];
-    let tube = Tube { diameter: 0.04, lid_height: None };
-    let header = TrajectoryHeader {
-        provenance: &provenance,
-        config_json: "{}",
-        seed: 1,
-        build: "git test",
-        pellet_files: &files,
-        tube: &tube,
-    };
-    let mut w = TrajectoryWriter::create(&path, &header).unwrap();
+    let mut w = common::trajectory_writer(&path);
     for i in 0..40 {
         let t = i as f64 * 0.01;
         w.write_frame(&Frame { time_s: t, positions: vec![[t, 0.0, 0.0]], ..Frame::default() }).unwrap();
@@ -238,7 +204,7 @@ fn a_damaged_chunk_is_skipped_when_asked() {
     assert_eq!(t.checkpoint.as_deref(), Some(&[29u8; 64][..]));
     let times: Vec<f64> = t.frames.iter().map(|f| f.time_s).collect();
     assert_eq!(times, (10..30).map(|i| i as f64 * 0.01).collect::<Vec<_>>());
-    assert_eq!(t.pellet_files, files);
+    assert_eq!(t.pellet_files, [common::pellet_bytes()]);
 
     // A chunk's length field made larger: the chunk is no longer taken with the ones after it.
     let mut bytes = whole.clone();

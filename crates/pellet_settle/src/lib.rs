@@ -45,6 +45,7 @@
 //! `settle-check` runs the same code on the recorded energy channel.
 #![deny(missing_docs)]
 
+use pellet_geom::math::shown;
 use serde::{Deserialize, Serialize};
 
 /// A bed whose fastest pellet stays below this fraction of the speed bound, and whose kinetic
@@ -108,13 +109,7 @@ impl SettleCriteria {
         ];
         for (flag, v, hi, unit) in checks {
             if !(v.is_finite() && v > 0.0 && v <= hi) {
-                // A typed 1e300 is shown as such, not as three hundred digits.
-                let got = if v != 0.0 && v.is_finite() && !(1e-6..1e15).contains(&v.abs()) {
-                    format!("{v:e}")
-                } else {
-                    format!("{v}")
-                };
-                return Err(format!("{flag} must be in (0, {hi}]{unit} (got {got})"));
+                return Err(format!("{flag} must be in (0, {hi}]{unit} (got {})", shown(v)));
             }
         }
         Ok(())

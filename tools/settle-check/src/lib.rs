@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use anyhow::{bail, Context};
 use clap::Parser;
 
-use pellet_cli::Outcome;
+use pellet_cli::{shown, Outcome};
 use pellet_geom::{Bed, PlacedPellet};
 use pellet_io::{Frame, OutputFile, PackingFile, Provenance, SettleVerdict, Trajectory};
 use pellet_settle::{check_settled, EnergySample, SettleCriteria, SettleReport};
@@ -212,8 +212,10 @@ fn choose_frame<'a>(t: &'a Trajectory, report: &SettleReport, at: Option<f64>) -
         // time must lie within them, give or take one frame's spacing.
         let spacing = (last - first) / (t.frames.len().max(2) - 1) as f64;
         if !(time.is_finite() && time >= first - spacing && time <= last + spacing) {
-            let got = if time.is_finite() && time.abs() >= 1e15 { format!("{time:e}") } else { format!("{time}") };
-            bail!("--at must be a time in s within the recorded frames, {first:.4} to {last:.4} s (got {got})");
+            bail!(
+                "--at must be a time in s within the recorded frames, {first:.4} to {last:.4} s (got {})",
+                shown(time)
+            );
         }
         return Ok(t.frames.iter().min_by(|a, b| (a.time_s - time).abs().total_cmp(&(b.time_s - time).abs())));
     }

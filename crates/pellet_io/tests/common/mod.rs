@@ -5,7 +5,10 @@
 use std::fmt::Display;
 
 use pellet_geom::{Bed, Pellet, PlacedPellet, Resolution, ShapeSpec, Tube};
-use pellet_io::{encode_packing, encode_pellet, PackingFile, PelletFile, Provenance, SettleVerdict};
+use pellet_io::{
+    encode_packing, encode_pellet, PackingFile, PelletFile, Provenance, SettleVerdict, TrajectoryHeader,
+    TrajectoryWriter,
+};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
 
@@ -121,4 +124,20 @@ pub fn odd_number() -> impl Strategy<Value = f64> {
         -1e3..1e3f64,
         any::<f64>(),
     ]
+}
+
+/// A trajectory writer at `path` for one 10 mm sphere type in a 40 mm tube.
+pub fn trajectory_writer(path: &std::path::Path) -> TrajectoryWriter {
+    let provenance = provenance();
+    let files = [pellet_bytes()];
+    let tube = Tube { diameter: 0.04, lid_height: None };
+    let header = TrajectoryHeader {
+        provenance: &provenance,
+        config_json: "{}",
+        seed: 1,
+        build: "git test",
+        pellet_files: &files,
+        tube: &tube,
+    };
+    TrajectoryWriter::create(path, &header).unwrap()
 }
