@@ -1,5 +1,5 @@
 //! Prints a trajectory's energy channel, one line per recorded step, for diagnosing where a
-//! pack run spends its solver work (used for the engine NOTES of 2026-11-24):
+//! pack run spends its solver work (docs/engine.md, Speed):
 //! `cargo run --release -p pellet_io --example energy_dump -- bed.mcap`.
 //! Columns: time (s), pellets, substeps, solver iterations (resting and collision phases,
 //! Baraff pivots included), resting contacts, colliding contacts, kinetic energy (J), fastest

@@ -131,10 +131,10 @@ impl Page<'_> {
         }
         let _ = writeln!(o, "- {}", builds_line(&beds));
         // The records do not say which machine ran each bed, and the machines that ran them
-        // differ in CPU model (AMD EPYC for the earlier beds, Intel Xeon for the later).
+        // differ in CPU model (AMD EPYC and Intel Xeon; docs/validation/reproducing.md says which).
         let _ = writeln!(
             o,
-            "- Machine: this report was written on {}. The compute time above was measured on the machines that ran each bed, all of this kind (2 logical cores) but not all of one CPU model (see `docs/paper-study-log.md`), so it mixes machines.",
+            "- Machine: this report was written on {}. The compute time above was measured on the machines that ran each bed, all of this kind (2 logical cores) but not all of one CPU model (see [reproducing.md](reproducing.md), Machines), so it mixes machines.",
             self.machine
         );
         let _ = writeln!(o, "- Engine defaults for every bed (no per-bed tuning): `pack`'s defaults unless the table row sets COR, friction or disturbances; contact model `recommended` (the paper's model does not let a poured bed settle; see docs/engine.md, Contact model).\n");
