@@ -50,7 +50,7 @@ fn reevaluate(w: &World, geoms: &[TypeGeometry; 2], c: &Contact) -> Option<Conta
     let shapes = [w.types()[0].shape.clone(), w.types()[1].shape.clone()];
     let bodies = w.bodies();
     let p = |k: usize| Pellet { index: k, body: &bodies[k], shape: &shapes[k], geom: &geoms[k] };
-    collide_feature(w.container(), p(c.a), c.b_body().map(p), &c.key)
+    collide_feature(w.container(), p(c.a), c.b_body().map(p), &c.key, false)
 }
 
 /// A 10 mm cylinder as the engine's mesh path sees a pellet without a closed form: the closed

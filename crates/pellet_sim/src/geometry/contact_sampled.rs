@@ -45,18 +45,19 @@ fn rotation(p: &Pellet<'_>) -> Mat3 {
 }
 
 /// The most a contact gap measured against a pellet of `shape` (bounding radius `r`) can jump
-/// under a vanishing motion, beyond its Lipschitz change: where a ring's edge–edge gap takes
-/// over from the SDF or gives way to it (both lie within ±`EDGE_BAND` · r of zero there), and
-/// 10 µm for a golden-section search (a rim point, the tube's nearest rim point) that lands in
-/// another local minimum. A sphere's gaps are closed forms in its centre (a distance between
-/// centres, to a plane or an axis, or another shape's SDF at the centre): only round-off, for
-/// which 1 nm is ample. Used to skip re-evaluating contacts that stay open
-/// (`dynamics::stabilize`).
-pub fn gap_jump(shape: &ShapeDesc, r: Real) -> Real {
+/// under a vanishing motion, beyond its Lipschitz change: where an edge–edge gap takes over from
+/// the SDF or gives way to it (both lie within ±`EDGE_BAND` · r of zero there; rings always,
+/// cylinders under the velocity-level stepper's rules, `lean`), and 10 µm for a golden-section
+/// search (a rim point, the tube's nearest rim point) that lands in another local minimum. A
+/// sphere's gaps are closed forms in its centre (a distance between centres, to a plane or an
+/// axis, or another shape's SDF at the centre): only round-off, for which 1 nm is ample. Used
+/// to skip re-evaluating contacts that stay open (`dynamics::stabilize`).
+pub fn gap_jump(shape: &ShapeDesc, r: Real, lean: bool) -> Real {
     let search = 1e-5;
     match shape {
         ShapeDesc::Sphere { .. } => 1e-9,
         ShapeDesc::HollowCylinder { .. } => search + 2.0 * EDGE_BAND * r,
+        ShapeDesc::Cylinder { .. } if lean => search + 2.0 * EDGE_BAND * r,
         _ => search,
     }
 }
@@ -181,7 +182,8 @@ impl<'a> OneWay<'a> {
         })
     }
 
-    /// A rim sample of src within `EDGE_BAND` · R_b of an edge of dst, a ring: the edge–edge
+    /// A rim sample of src within `EDGE_BAND` · R_b of an edge of dst (a ring; a cylinder under
+    /// the velocity-level stepper's rules, `lean`): the edge–edge
     /// normal (outward from dst, at right angles to both edges) and the gap along it, in dst's
     /// frame. None where the two edges are nearly parallel (stacked rims: the faces decide) or
     /// the normal lies outside either edge's cone of normals. The normal is attached to dst for
@@ -196,12 +198,19 @@ impl<'a> OneWay<'a> {
     /// jumped between 1e-15 and 1e-9 J, so wide ring beds never passed the settle test. With the
     /// edge–edge normal: 4 flips, and the bed at rest needs no solver iterations.
     ///
-    /// Rings only: settled cylinder beds flip too (270 and 568 normals in 400 substeps on two
-    /// of them) but come to rest anyway, and with the edge–edge normal at cylinder edges two of
-    /// four creep-prone cylinder beds of the paper study ended with a rocking pellet instead of
-    /// settling.
+    /// Cylinders flip too, and under the velocity-level stepper a flipped normal is a pump: the
+    /// solve holds the rim on one face while it sinks into the other, and projection pushes it
+    /// out, every step (`docs/engine.md`, "Edge–edge normals for cylinders"). The force-level
+    /// stepper keeps the faces' normals at cylinder edges: its settled cylinder beds flip 270 and
+    /// 568 normals in 400 substeps but come to rest anyway, and with the edge–edge normal two of
+    /// four creep-prone cylinder beds of the paper study ended with a rocking pellet.
     fn edge_edge(&self, s: &Vec3, i: usize, pd: &Vec3, cone: &(Vec3, Vec3)) -> Option<(Vec3, Real)> {
-        if self.src.geom.rim_of[i] == u32::MAX || !matches!(self.dst.shape, ShapeDesc::HollowCylinder { .. }) {
+        let edged = match self.dst.shape {
+            ShapeDesc::HollowCylinder { .. } => true,
+            ShapeDesc::Cylinder { .. } => self.lean,
+            _ => false,
+        };
+        if self.src.geom.rim_of[i] == u32::MAX || !edged {
             return None;
         }
         let [(qx, side), (qy, ez)] = edge_faces(self.dst.shape, pd, Real::INFINITY)?;
@@ -387,14 +396,20 @@ fn contacts_of(a: Pellet<'_>, b: Pellet<'_>, mut hits: Vec<Hit>, kept: &[u32], o
     }
 }
 
-/// Re-evaluates the sampled contact with `feature` at the current poses (own normal).
-pub fn sampled_feature(a: Pellet<'_>, b: Pellet<'_>, feature: u32) -> Option<Contact> {
+/// Re-evaluates the sampled contact with `feature` at the current poses (own normal), under
+/// the same rules (`lean`) as the narrow phase that found it.
+pub fn sampled_feature(a: Pellet<'_>, b: Pellet<'_>, feature: u32, lean: bool) -> Option<Contact> {
+    let way = |src, dst, src_is_b| {
+        let mut way = OneWay::new(src, dst, src_is_b);
+        way.lean = lean;
+        way
+    };
     let h = if feature == LATERAL {
         lateral_hit(&a, &b)?
     } else if feature & SIDE_B != 0 {
-        OneWay::new(b, a, true).feature(feature)?
+        way(b, a, true).feature(feature)?
     } else {
-        OneWay::new(a, b, false).feature(feature)?
+        way(a, b, false).feature(feature)?
     };
     Some(contact(&a, &b, &h, h.normal, h.owner))
 }

@@ -113,17 +113,19 @@ pub fn collide_wall(
 }
 
 /// Re-evaluates the one contact with `key` between `a` and `b` (or a's wall) at the current
-/// poses, with no gap limit; its normal is that feature's own (not the patch's).
+/// poses, with no gap limit; its normal is that feature's own (not the patch's). `lean`: the
+/// contact came from [`collide_pair_kept`] (the velocity-level stepper's rules).
 pub fn collide_feature(
     container: &Container,
     a: Pellet<'_>,
     b: Option<Pellet<'_>>,
     key: &ContactKey,
+    lean: bool,
 ) -> Option<Contact> {
     match (key.b, b) {
         (Counterpart::Body(_), Some(b)) => match sphere_pair(a, b, Real::INFINITY) {
             Some(one) => one,
-            None => sampled_feature(a, b, key.feature),
+            None => sampled_feature(a, b, key.feature, lean),
         },
         (Counterpart::Wall(w), _) => match a.shape {
             ShapeDesc::Sphere { radius } => {

@@ -209,6 +209,7 @@ impl World {
         let shape = |b: &Body| &self.types[b.type_id.0 as usize].shape;
         let radius = |b: &Body| self.types[b.type_id.0 as usize].bounding_radius_m;
         let r_max = self.bodies.iter().map(radius).fold(0.0, Real::max);
+        let lean = self.params.stepper == Stepper::Velocity;
         let lever = |b: &Body| match shape(b) {
             ShapeDesc::Sphere { .. } => 0.0,
             _ => radius(b) + 2.0 * r_max,
@@ -216,7 +217,7 @@ impl World {
         GapBounds {
             lipschitz: self.types.iter().map(|t| lipschitz(&t.shape)).fold(1.0, Real::max),
             lever: self.bodies.iter().map(lever).collect(),
-            jump: self.bodies.iter().map(|b| gap_jump(shape(b), radius(b))).collect(),
+            jump: self.bodies.iter().map(|b| gap_jump(shape(b), radius(b), lean)).collect(),
         }
     }
 
@@ -233,7 +234,8 @@ impl World {
         let d = self.reference_size();
         let g = self.params.gravity;
         let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
-        let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c);
+        let lean = self.params.stepper == Stepper::Velocity;
+        let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c, lean);
         let mut bodies = std::mem::take(&mut self.bodies);
         let clock = std::time::Instant::now();
         let proj = project_positions(&mut bodies, contacts, generated_at, &eval, bounds, slop, 0.01 * d, &g);
@@ -466,12 +468,13 @@ pub(crate) fn reevaluate(
     container: &Container,
     bodies: &[Body],
     c: &Contact,
+    lean: bool,
 ) -> Option<Contact> {
     let pellet = |k: usize| {
         let t = bodies[k].type_id.0 as usize;
         Pellet { index: k, body: &bodies[k], shape: &types[t].shape, geom: &geometry.types[t] }
     };
-    collide_feature(container, pellet(c.a), c.b_body().map(pellet), &c.key)
+    collide_feature(container, pellet(c.a), c.b_body().map(pellet), &c.key, lean)
 }
 
 #[cfg(test)]
