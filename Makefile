@@ -21,7 +21,7 @@ install: build
 	for t in $(TOOLS); do install -m 755 $(BIN)/$$t $(DESTDIR)$(PREFIX)/bin/$$t || exit 1; done
 
 pipeline: build
-	$(MAKE) --no-print-directory -f pipelines/default.mk BIN=$(BIN) OUT=$(OUT)
+	@$(MAKE) --no-print-directory -f pipelines/default.mk BIN=$(BIN) OUT=$(OUT)
 
 lint:
 	$(CARGO) fmt --all --check

@@ -214,7 +214,8 @@ wait $w1 || fail "$(cat "$work/when.bed:pack")"
 (cd "$work/default-local" && find out -type f | sort) >"$work/default.files"
 [ "$(wc -l <"$work/default.files")" -ge 15 ] || fail "the default pipeline wrote too few files"
 while read -r f; do
-    [ "$f" = out/bed.mcap ] && continue
+    # The trajectory, and the tools' own output (timings, Slurm's legs), differ.
+    case $f in out/bed.mcap | out/log/*) continue ;; esac
     cmp -s "$work/default-local/$f" "$work/default-slurm/$f" || fail "default pipeline: $f differs on Slurm"
 done <"$work/default.files"
 grep -q 'leg 1 on .*/pack .*--resume' "$work/default-slurm/out/slurm/bed.log" ||

@@ -12,6 +12,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, ValueEnum};
 
 use pellet_cli::{mm_in_range, shown, Outcome};
+use pellet_io::OutputFile;
 use pellet_refs::radial::EpsBSource;
 use pellet_refs::registry::{self, Reference};
 use pellet_refs::scoring::{self, Bed, EpsBChoice, Score, ZUnit};
@@ -30,6 +31,7 @@ Examples:
   compare theirs.csv --dp 10 --tube-diameter 50 --ref de-klerk,mueller --exp roshani.csv -o report/
   compare --summary a.json --summary b.json --summary c.json --ref dixon,foumeny,cheng -o report/ --fail-above mre=0.05
   compare out/profile.csv --summary out/summary.json -o report/ --fail-above rmse=0.08 --fail-below r2=0.5
+  compare out/profile.csv --summary out/summary.json -o report/ --table -
   compare --list-refs
 
 Outputs in the -o directory: scores.json, scores.csv, report.md, profile.png/.svg (when a profile is
@@ -107,6 +109,12 @@ pub struct Args {
     /// Exit 1 if a gated score is below a limit: `r2=0.5`.
     #[arg(long, value_name = "METRIC=LIMIT,...")]
     fail_below: Vec<String>,
+    /// Also write the scores as an aligned text table to FILE (`-` = stdout, in place of the
+    /// line per score): reference, kind, grade, rmse and r2 of a profile (void fraction,
+    /// dimensionless), simulated and predicted bulk porosity (dimensionless) and their relative
+    /// error (%), and a note for scores that are not gated.
+    #[arg(long, value_name = "FILE")]
+    table: Option<String>,
     /// Skip the plots.
     #[arg(long)]
     no_plots: bool,
@@ -198,7 +206,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     let written = ["scores.json", "scores.csv", "report.md", "profile.png", "profile.svg"]
         .into_iter()
         .chain(["porosity_vs_n.png", "porosity_vs_n.svg"])
-        .map(|n| ("-o".to_string(), out_dir.join(n).display().to_string()));
+        .map(|n| ("-o".to_string(), out_dir.join(n).display().to_string()))
+        .chain(args.table.iter().map(|t| ("--table".to_string(), t.clone())));
     pellet_cli::refuse_clashing_outputs(profile_paths.iter().chain(&args.exp).chain(&args.summaries), written)?;
     let unit = match args.wall_unit {
         WallUnit::Dp => ZUnit::Dp,
@@ -270,12 +279,21 @@ pub fn run(args: Args) -> Result<Outcome> {
         EpsBMode::Bulk => "given: the bed's bulk porosity".into(),
         EpsBMode::Value(v) => format!("given: {v}"),
     };
-    let outputs = report::outputs(&out_dir, &info, &scores, &gate_list, &violations, &plot_paths)?;
+    let mut outputs = report::outputs(&out_dir, &info, &scores, &gate_list, &violations, &plot_paths)?;
+    let table_on_stdout = args.table.as_deref() == Some("-");
+    if let Some(path) = args.table.as_ref().filter(|_| !table_on_stdout) {
+        outputs.push(OutputFile {
+            path: path.clone(),
+            bytes: report::table(&scores).into_bytes(),
+            binary: false,
+            what: "score table".into(),
+        });
+    }
     pellet_io::write_outputs(&outputs)?;
     for g in &unused {
         eprintln!("compare: warning: gate {}={} applies to no gated score", g.metric, g.limit);
     }
-    pellet_cli::print_stdout(&report::stdout_summary(&scores, &violations, &out_dir, &plot_paths))?;
+    pellet_cli::print_stdout(&report::stdout_summary(&scores, table_on_stdout, &violations, &out_dir, &plot_paths))?;
     Ok(if violations.is_empty() { Outcome::Success } else { Outcome::CheckFailed })
 }
 

@@ -227,10 +227,83 @@ fn markdown(info: &Info, scores: &[Score], gates: &[Gate], violations: &[Violati
     md
 }
 
-/// What compare prints on stdout: one line per score, the gates, the files.
-pub fn stdout_summary(scores: &[Score], violations: &[Violation], dir: &Path, plots: &[PathBuf]) -> String {
-    let mut out = String::new();
+/// The scores as an aligned plain-text table (`--table`), one row per score: `rmse` and `r2`
+/// of a profile, `simulated` and `predicted` bulk porosity and their relative `error_%` (signed,
+/// (sim − pred)/pred in %, the worst bed) of a bulk correlation; void fractions and porosities
+/// are dimensionless fractions; `-` where a column does not apply.
+pub fn table(scores: &[Score]) -> String {
+    let head = ["reference", "kind", "grade", "rmse", "r2", "simulated", "predicted", "error_%", "note"];
+    let mut rows: Vec<Vec<String>> = vec![head.map(String::from).to_vec()];
+    let dash = || "-".to_string();
     for s in scores {
+        let note = match s {
+            Score::Profile(p) if !p.valid => "outside range",
+            Score::Bulk(b) if !b.valid => "outside range",
+            _ if !s.is_gated() => "grade C, not gated",
+            _ => "",
+        };
+        rows.push(match s {
+            Score::Profile(p) => vec![
+                p.reference.clone(),
+                "profile".into(),
+                p.grade.map_or_else(dash, |g| format!("{g:?}")),
+                format!("{:.4}", p.metrics.rmse),
+                p.metrics.r2.map_or_else(dash, |r| format!("{r:.3}")),
+                dash(),
+                dash(),
+                dash(),
+                note.into(),
+            ],
+            Score::Bulk(b) => vec![
+                b.reference.clone(),
+                "bulk".into(),
+                format!("{:?}", b.grade),
+                dash(),
+                dash(),
+                format!("{:.4}", b.simulated),
+                format!("{:.4}", b.predicted),
+                format!("{:+.2}", 100.0 * b.relative_error),
+                note.into(),
+            ],
+        });
+    }
+    let widths: Vec<usize> =
+        (0..head.len()).map(|c| rows.iter().map(|r| r[c].chars().count()).max().unwrap_or(0)).collect();
+    let mut out = String::new();
+    for row in &rows {
+        let mut line = String::new();
+        for (c, cell) in row.iter().enumerate() {
+            let w = widths[c];
+            match c {
+                0..=2 => {
+                    let _ = write!(line, "{cell:<w$}  ");
+                }
+                3..=7 => {
+                    let _ = write!(line, "{cell:>w$}  ");
+                }
+                _ => line += cell,
+            }
+        }
+        out += line.trim_end();
+        out.push('\n');
+    }
+    out
+}
+
+/// What compare prints on stdout: one line per score (or, with `--table -`, the table), the
+/// gates, the files.
+pub fn stdout_summary(
+    scores: &[Score],
+    as_table: bool,
+    violations: &[Violation],
+    dir: &Path,
+    plots: &[PathBuf],
+) -> String {
+    let mut out = String::new();
+    if as_table {
+        out += &table(scores);
+    }
+    for s in scores.iter().filter(|_| !as_table) {
         let flag = match s {
             Score::Profile(p) if !p.valid => "  [outside range]",
             Score::Bulk(b) if !b.valid => "  [outside range]",

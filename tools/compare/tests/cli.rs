@@ -553,3 +553,45 @@ fn a_closed_stdout_is_an_error_not_a_silent_success() {
     let discarded = Command::new(env!("CARGO_BIN_EXE_compare")).arg("--list-refs").stdout(Stdio::null()).status();
     assert_eq!(discarded.unwrap().code(), Some(0));
 }
+
+#[test]
+fn the_table_is_aligned_and_says_what_the_json_says() {
+    let dir = tempfile::tempdir().unwrap();
+    write_profile(&dir.path().join("profile.csv"), 0.0);
+    write_summary(&dir.path().join("summary.json"), 0.425, D);
+    let args =
+        ["profile.csv", "--summary", "summary.json", "--ref", "mueller-1992,de-klerk,martin,dixon-1988", "-o", "r"];
+    let out = compare(dir.path(), &[&args[..], &["--table", "scores.txt"]].concat());
+    assert_exit(&out, 0);
+    let text = std::fs::read_to_string(dir.path().join("scores.txt")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 5, "{text}");
+    let head = lines[0];
+    for col in ["reference", "kind", "grade", "rmse", "r2", "simulated", "predicted", "error_%", "note"] {
+        assert!(head.split_whitespace().any(|w| w == col), "{head}");
+    }
+    // Aligned: every row's kind starts where the header's does, right-aligned numbers end where
+    // their header ends.
+    let (kind_at, rmse_end) = (head.find("kind").unwrap(), head.find("rmse").unwrap() + 4);
+    for line in &lines[1..] {
+        assert!(line[kind_at..].starts_with("profile") || line[kind_at..].starts_with("bulk"), "{text}");
+        assert!(line[..rmse_end].ends_with(|c: char| c.is_ascii_digit() || c == '-'), "{text}");
+        assert_eq!(line, &line.trim_end(), "trailing blanks: {text}");
+    }
+    let s = scores(&dir.path().join("r"));
+    let row = |name: &str| lines.iter().find(|l| l.starts_with(name)).unwrap_or_else(|| panic!("{name}: {text}"));
+    let dk = row("de-klerk-2003");
+    assert!(dk.contains(&format!("{:.4}", find(&s, "de-klerk-2003")["rmse"].as_f64().unwrap())), "{dk}");
+    assert!(row("martin-1978").ends_with("grade C, not gated"), "{text}");
+    let dx = find(&s, "dixon-1988");
+    let cells: Vec<&str> = row("dixon-1988").split_whitespace().collect();
+    assert_eq!(cells[1..5], ["bulk", "A", "-", "-"], "{text}");
+    assert_eq!(cells[5], format!("{:.4}", dx["simulated"].as_f64().unwrap()));
+    assert_eq!(cells[7], format!("{:+.2}", 100.0 * dx["relative_error"].as_f64().unwrap()));
+    // On stdout, in place of the line per score; a clash with the report's own files is refused.
+    let out = compare(dir.path(), &[&args[..], &["--table", "-"]].concat());
+    assert_exit(&out, 0);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.starts_with(&text) && stdout.contains("report: r/report.md"), "{stdout}");
+    assert_error(&compare(dir.path(), &[&args[..], &["--table", "r/scores.csv"]].concat()), "scores.csv");
+}
