@@ -57,15 +57,27 @@ test-openfoam: build
 # Speed figures (not tests): the engine pouring spheres, cylinders and rings
 # with pack's contact model (PELLET_BENCH_CASES / _SIM_SECONDS / _WALL_SECONDS /
 # _MODE tune it, see crates/pellet_sim/benches/pack_beds.rs), voidprof, and
-# bedexport's stages on a 600-sphere bed.
+# bedexport's stages on a 600-sphere bed, and the steppers beside the peer
+# engines. Each stage's figures are shown and kept in $(BENCH_OUT)/STAGE.txt;
+# at the end pipelines/benchmarks-md.sh writes them, with the machine and the
+# build, to BENCHMARKS.md (replaced whole, only by a run that got to the end).
+BENCH_OUT ?= $(OUT)/bench
+bench: export PELLET_BENCH_MODE ?= recommended
+bench: export PELLET_BENCH_EXACT_ROWS ?= 16
+bench: export PELLET_BENCH_EXACT_FALLBACK ?= 64
+# $(call bench_stage,NAME,COMMAND): COMMAND's stdout on the terminal and in
+# $(BENCH_OUT)/NAME.txt; fails when COMMAND fails (which a pipe alone would hide).
+bench_stage = echo '== $(1) (figures kept in $(BENCH_OUT)/$(1).txt)'; rm -f $(BENCH_OUT)/$(1).failed; \
+  { $(2) || echo $$? >$(BENCH_OUT)/$(1).failed; } | tee $(BENCH_OUT)/$(1).txt; \
+  if [ -e $(BENCH_OUT)/$(1).failed ]; then exit "$$(cat $(BENCH_OUT)/$(1).failed)"; fi
 bench:
-	PELLET_BENCH_MODE=$${PELLET_BENCH_MODE:-recommended} PELLET_BENCH_EXACT_ROWS=$${PELLET_BENCH_EXACT_ROWS:-16} \
-	  PELLET_BENCH_EXACT_FALLBACK=$${PELLET_BENCH_EXACT_FALLBACK:-64} \
-	  $(CARGO) bench -p pellet_sim --bench pack_beds
-	$(CARGO) run --release -p pellet_analysis --example bench_voidprof
-	$(CARGO) run --release -p pellet_export --example bench_export
+	@mkdir -p $(BENCH_OUT) && date -u '+%Y-%m-%d %H:%M UTC' >$(BENCH_OUT)/started
+	@$(call bench_stage,pack_beds,$(CARGO) bench -p pellet_sim --bench pack_beds)
+	@$(call bench_stage,voidprof,$(CARGO) run --release -p pellet_analysis --example bench_voidprof)
+	@$(call bench_stage,export,$(CARGO) run --release -p pellet_export --example bench_export)
 	$(CARGO) build --release --workspace --bins
-	bash pipelines/bench-steppers.sh $(BIN)
+	@$(call bench_stage,steppers,bash pipelines/bench-steppers.sh $(BIN))
+	sh pipelines/benchmarks-md.sh $(BENCH_OUT) BENCHMARKS.md
 
 # T14 (not a test: minutes of one core): 1000 spheres in a 100 mm
 # tube, batch loading, scored against the correlations (pipelines/t14.mk).
