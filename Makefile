@@ -57,8 +57,9 @@ test-openfoam: build
 # Speed figures (not tests): the engine pouring spheres, cylinders and rings
 # with pack's contact model (PELLET_BENCH_CASES / _SIM_SECONDS / _WALL_SECONDS /
 # _MODE tune it, see crates/pellet_sim/benches/pack_beds.rs), voidprof, and
-# bedexport's stages on a 600-sphere bed, and the steppers beside the peer
-# engines. Each stage's figures are shown and kept in $(BENCH_OUT)/STAGE.txt;
+# bedexport's stages on a 600-sphere bed, the two steppers side by side (with
+# LIGGGHTS on the 690-sphere bed), and the velocity-level stepper beside rapier on
+# its 256-ring and 620-cylinder beds. Each stage's figures are shown and kept in $(BENCH_OUT)/STAGE.txt;
 # at the end pipelines/benchmarks-md.sh writes them, with the machine and the
 # build, to BENCHMARKS.md (replaced whole, only by a run that got to the end).
 BENCH_OUT ?= $(OUT)/bench
@@ -77,6 +78,7 @@ bench:
 	@$(call bench_stage,export,$(CARGO) run --release -p pellet_export --example bench_export)
 	$(CARGO) build --release --workspace --bins
 	@$(call bench_stage,steppers,bash pipelines/bench-steppers.sh $(BIN))
+	@$(call bench_stage,peers,STEPPERS=velocity bash pipelines/bench-steppers.sh $(BIN) "ring256 cyl620")
 	sh pipelines/benchmarks-md.sh $(BENCH_OUT) BENCHMARKS.md
 
 # T14 (not a test: minutes of one core): 1000 spheres in a 100 mm

@@ -1,7 +1,7 @@
 #!/bin/sh
 # benchmarks-md.sh DIR [FILE]: writes FILE (default BENCHMARKS.md) at the end of `make bench`
 # from the figures it kept in DIR: pack_beds.txt (the engine's pours), voidprof.txt,
-# export.txt (bedexport's stages), steppers.txt (pipelines/bench-steppers.sh) and started
+# export.txt (bedexport's stages), steppers.txt and peers.txt (pipelines/bench-steppers.sh) and started
 # (the run's start, UTC); a missing one is named as not run. Adds the machine (CPU model,
 # cores, OS), the build (git commit, rustc, cargo profile) and the PELLET_BENCH_* and STEPPERS
 # settings in the environment. Written to a temporary file beside FILE, then renamed over it.
@@ -53,6 +53,8 @@ section() {  # title, file in DIR, note under the figures
     section 'bedexport'\''s stages on 600 spheres (`cargo run --release -p pellet_export --example bench_export`)' export.txt ''
     section 'The steppers and the peer engines (`pipelines/bench-steppers.sh`)' steppers.txt \
         'cpu_s: user + system CPU s of `pack`; settle_s: simulated s to settle; ratio: cpu_s over the peer'\''s (yardstick line; ../shared/peers/run.sh) on the same bed; pts/pair, warm_% and conv_%: the velocity stepper'\''s contact solve over the last 0.1 s (contact points a pair, % of loaded contacts warm started, % of steps converged).'
+    section 'The velocity-level stepper and rapier (`STEPPERS=velocity pipelines/bench-steppers.sh BIN "ring256 cyl620"`)' peers.txt \
+        'The same columns; the yardsticks are rapier 0.36 pouring the same beds (../shared/peers/run.sh rapier-256-rings, rapier-620).'
 } >"$tmp"
 mv "$tmp" "$file"
 echo "wrote $file"
