@@ -5,14 +5,28 @@ use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{register_font, FontStyle};
 
-use crate::{CurveStyle, PlotError, ProfileSeries, RefCurve};
+use crate::{CurveStyle, PlotError, ProfileFrame, ProfileSeries, RefCurve};
 
 /// The font family every text uses; registered once from the embedded
 /// DejaVu faces, because the `ab_glyph` backend has no font lookup.
 const FAMILY: &str = "sans-serif";
+/// The image size without caption lines (pixels).
 const SIZE: (u32, u32) = (900, 560);
+/// Height of one caption line under the chart (pixels).
+const NOTE_LINE: u32 = 22;
+/// Characters of a caption line that fit the image's width at its font (about 6.5 pixels each,
+/// with room to spare for wide letters); longer lines are wrapped.
+const NOTE_CHARS: usize = 120;
+/// Room above the plotting area for the `wall` and `axis` labels (pixels).
+const FRAME_LABELS: u32 = 22;
+/// The colour of the wall and axis lines and of the caption text.
+const FRAME_INK: RGBColor = RGBColor(70, 70, 70);
+/// An axis beyond the data's far end by more than this fraction of the data's x span is not
+/// drawn in the chart (it would squeeze the data) but named at the x axis's end.
+const AXIS_REACH: f64 = 0.5;
 
 /// Image formats, from the file extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,6 +60,8 @@ pub struct Chart<'a> {
     pub series: &'a [ProfileSeries],
     /// Reference curves.
     pub references: &'a [RefCurve],
+    /// A radial profile's wall, axis and caption lines (`None` for other charts).
+    pub frame: Option<&'a ProfileFrame>,
 }
 
 fn register_fonts() {
@@ -102,11 +118,12 @@ impl Chart<'_> {
             )));
         }
         register_fonts();
+        let size = (SIZE.0, SIZE.1 + self.notes_height());
         match format {
             ImageFormat::Svg => {
                 let mut svg = String::new();
                 {
-                    let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+                    let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
                     self.draw(root, x_range, y_range).map_err(draw_err)?;
                 }
                 write_atomically(path, "svg", |tmp| std::fs::write(tmp, svg.as_bytes()).map_err(|e| e.to_string()))
@@ -114,10 +131,23 @@ impl Chart<'_> {
             }
             ImageFormat::Png => write_atomically(path, "png", |tmp| {
                 // The encoder picks PNG from the temporary name's extension.
-                let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
+                let root = BitMapBackend::new(tmp, size).into_drawing_area();
                 self.draw(root, x_range, y_range)
             })
             .map_err(draw_err),
+        }
+    }
+
+    /// The caption lines, each wrapped at spaces to fit the image's width.
+    fn notes(&self) -> Vec<String> {
+        self.frame.map_or_else(Vec::new, |f| f.notes.iter().flat_map(|n| wrap(n, NOTE_CHARS)).collect())
+    }
+
+    /// The height of the caption lines under the chart (pixels).
+    fn notes_height(&self) -> u32 {
+        match self.notes().len() {
+            0 => 0,
+            n => NOTE_LINE * n as u32 + 8,
         }
     }
 
@@ -140,6 +170,13 @@ impl Chart<'_> {
         if !x0.is_finite() {
             return None;
         }
+        if let Some(frame) = self.frame {
+            let mut marks = vec![frame.wall];
+            marks.extend(frame.axis.filter(|&a| axis_within_reach(a, x0, x1)));
+            for m in marks.into_iter().filter(|m| m.is_finite()) {
+                (x0, x1) = (x0.min(m), x1.max(m));
+            }
+        }
         let pad = |lo: f64, hi: f64| {
             let span = (hi - lo).max(1e-6);
             (lo - 0.04 * span, hi + 0.04 * span)
@@ -161,9 +198,11 @@ impl Chart<'_> {
     {
         let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
         root.fill(&WHITE).map_err(e)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(self.title, (FAMILY, 22))
-            .margin(14)
+        // The chart above, the caption lines (if any) below it.
+        let (upper, lower) = root.split_vertically(SIZE.1);
+        let titled = upper.margin(14, 14, 14, 14).titled(self.title, (FAMILY, 22)).map_err(e)?;
+        let area = titled.margin(if self.frame.is_some() { FRAME_LABELS } else { 0 }, 0, 0, 0);
+        let mut chart = ChartBuilder::on(&area)
             .x_label_area_size(46)
             .y_label_area_size(60)
             .build_cartesian_2d(x0..x1, y0..y1)
@@ -235,6 +274,41 @@ impl Chart<'_> {
                 }
             });
         }
+        if let Some(frame) = self.frame {
+            // The wall and the axis, labelled just above the plotting area.
+            let (px, py) = chart.plotting_area().get_pixel_range();
+            let label = |text: &str, x: i32, anchor: HPos| -> Result<(), String> {
+                let style =
+                    TextStyle::from((FAMILY, 15).into_font()).color(&FRAME_INK).pos(Pos::new(anchor, VPos::Bottom));
+                root.draw_text(text, &style, (x, py.start - 5)).map_err(e)
+            };
+            // Text at a line runs toward the middle of the chart.
+            let toward_middle = |x: i32| if x < (px.start + px.end) / 2 { HPos::Left } else { HPos::Right };
+            let inside = |x: f64| x >= x0 && x <= x1;
+            if inside(frame.wall) {
+                let line = PathElement::new(vec![(frame.wall, y0), (frame.wall, y1)], FRAME_INK.stroke_width(3));
+                chart.draw_series(std::iter::once(line)).map_err(e)?;
+                let x = chart.backend_coord(&(frame.wall, y1)).0;
+                label("wall (r = R)", x, toward_middle(x))?;
+            }
+            match frame.axis.filter(|&a| inside(a)) {
+                Some(a) => {
+                    let line = DashedLineSeries::new(vec![(a, y0), (a, y1)], 7, 5, FRAME_INK.stroke_width(2));
+                    chart.draw_series(line).map_err(e)?;
+                    let x = chart.backend_coord(&(a, y1)).0;
+                    label("axis (r = 0)", x, toward_middle(x))?;
+                }
+                None => {
+                    // The axis lies beyond the x axis's end away from the wall (or is not known).
+                    let at = frame.axis.map_or(String::new(), |a| format!(" at x = {a:.2}"));
+                    if (frame.wall - x0).abs() <= (frame.wall - x1).abs() {
+                        label(&format!("axis (r = 0){at} →"), px.end, HPos::Right)?;
+                    } else {
+                        label(&format!("← axis (r = 0){at}"), px.start, HPos::Left)?;
+                    }
+                }
+            }
+        }
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperRight)
@@ -243,9 +317,37 @@ impl Chart<'_> {
             .border_style(BLACK)
             .draw()
             .map_err(e)?;
+        let style = TextStyle::from((FAMILY, 15).into_font()).color(&FRAME_INK).pos(Pos::new(HPos::Left, VPos::Top));
+        for (i, note) in self.notes().iter().enumerate() {
+            lower.draw_text(note, &style, (20, (NOTE_LINE * i as u32) as i32)).map_err(e)?;
+        }
         root.present().map_err(e)?;
         Ok(())
     }
+}
+
+/// `text` in lines of at most `width` characters, broken at spaces (a longer word stays whole).
+fn wrap(text: &str, width: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > width {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    lines.push(line);
+    lines
+}
+
+/// Whether an axis at `axis` is close enough to the data's x range [x0, x1] to be drawn in the
+/// chart: within [`AXIS_REACH`] of the span beyond either end.
+fn axis_within_reach(axis: f64, x0: f64, x1: f64) -> bool {
+    let reach = AXIS_REACH * (x1 - x0).max(1e-6);
+    axis >= x0 - reach && axis <= x1 + reach
 }
 
 /// Writes through a temporary file `.{name}.packbed-tmp.{ext}` beside
@@ -282,6 +384,15 @@ mod tests {
             assert!(REF_COLORS.iter().all(|r| rgb(r) != rgb(a)), "series colour {:?} is a reference colour", rgb(a));
         }
         assert!(SERIES_COLORS.len() >= 4, "the COR and friction charts draw four series");
+    }
+
+    #[test]
+    fn long_caption_lines_are_wrapped_at_spaces() {
+        assert_eq!(wrap("one two three", 7), ["one two", "three"]);
+        assert_eq!(wrap("short", 7), ["short"]);
+        assert_eq!(wrap("a longword b", 3), ["a", "longword", "b"]);
+        let long = "x ".repeat(100);
+        assert!(wrap(long.trim(), NOTE_CHARS).iter().all(|l| l.chars().count() <= NOTE_CHARS));
     }
 
     #[test]

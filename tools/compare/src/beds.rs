@@ -47,6 +47,8 @@ pub struct Inputs {
     pub info: Info,
     /// dp and dpv (mm) of the profile's bed, if known.
     pub lengths_mm: (Option<f64>, Option<f64>),
+    /// The summaries read, with the name each was read from.
+    pub summaries: Vec<(String, Summary)>,
 }
 
 fn read_bytes(path: &str) -> Result<Vec<u8>> {
@@ -138,7 +140,7 @@ impl Inputs {
                 }
             }
         }
-        Ok(Inputs { beds, profile, info, lengths_mm: (dp, dpv) })
+        Ok(Inputs { beds, profile, info, lengths_mm: (dp, dpv), summaries })
     }
 }
 

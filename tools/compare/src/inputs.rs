@@ -178,6 +178,19 @@ pub struct Summary {
     pub sphericity: Option<f64>,
     /// Number of pellets.
     pub pellets: Option<u64>,
+    /// The axial window the profile was averaged over, [z0, z1] (mm).
+    pub window_mm: Option<[f64; 2]>,
+    /// How many beds voidprof measured (the profile is their mean).
+    pub beds: Option<u64>,
+    /// Each bed voidprof measured; compare uses only the source.
+    pub per_bed: Option<Vec<SummaryBed>>,
+}
+
+/// One bed of a voidprof summary's `per_bed`.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct SummaryBed {
+    /// The file the bed was read from.
+    pub source: Option<String>,
 }
 
 /// Parses a summary JSON object.
@@ -203,6 +216,11 @@ pub fn parse_summary(source: &str, bytes: &[u8]) -> Result<Summary> {
     for (name, value, must, ok) in checks {
         if let Some(v) = value.filter(|v| !ok(*v)) {
             bail!("{source}: {name} {v} is not {must}");
+        }
+    }
+    if let Some([z0, z1]) = s.window_mm {
+        if !(z0.is_finite() && z1.is_finite() && z0 < z1) {
+            bail!("{source}: window_mm [{z0}, {z1}] is not an axial window (two heights in mm, z0 < z1)");
         }
     }
     Ok(s)
@@ -262,6 +280,7 @@ mod tests {
             (r#"{"extra": 1}"#, "none of"),
             (r#"{"bulk_porosity": 1.2}"#, "bulk_porosity 1.2 is not a fraction"),
             (r#"{"N": -3}"#, "N -3 is not a ratio > 0"),
+            (r#"{"N": 3, "window_mm": [25, 0]}"#, "window_mm [25, 0] is not an axial window"),
         ] {
             let e = parse_summary("s.json", json.as_bytes()).unwrap_err().to_string();
             assert!(e.contains(needle), "{json}: {e}");
@@ -273,5 +292,12 @@ mod tests {
         let s = parse_summary("s.json", br#"{"bulk_porosity":0.41,"N":6.0,"shape":"sphere","extra":[1]}"#).unwrap();
         assert_eq!((s.bulk_porosity, s.n, s.shape.as_deref()), (Some(0.41), Some(6.0), Some("sphere")));
         assert!(parse_summary("s.json", b"[1]").is_err());
+        let s = parse_summary(
+            "s.json",
+            br#"{"N":4.0,"window_mm":[0,25],"beds":1,"per_bed":[{"source":"bed.packing","bulk_porosity":0.4}]}"#,
+        )
+        .unwrap();
+        assert_eq!((s.window_mm, s.beds), (Some([0.0, 25.0]), Some(1)));
+        assert_eq!(s.per_bed.unwrap()[0].source.as_deref(), Some("bed.packing"));
     }
 }

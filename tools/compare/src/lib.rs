@@ -266,7 +266,8 @@ pub fn run(args: Args) -> Result<Outcome> {
     let mut plot_paths = Vec::new();
     if !args.no_plots {
         if let Some(profile) = &input.profile {
-            plot_paths.extend(plots::profile_plot(&out_dir, profile, input.beds.first(), &curves)?);
+            let frame = plots::profile_frame(profile, input.beds.first(), &input.summaries);
+            plot_paths.extend(plots::profile_plot(&out_dir, profile, input.beds.first(), &frame, &curves)?);
         }
         let bulk: Vec<&scoring::BulkScore> =
             scores.iter().filter_map(|s| if let Score::Bulk(b) = s { Some(b) } else { None }).collect();

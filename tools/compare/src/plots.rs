@@ -3,7 +3,9 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use pellet_plot::{CurveStyle, ProfileSeries, RefCurve};
+use pellet_plot::{
+    format_mm, single_bed_note, spread_note, window_note, CurveStyle, ProfileFrame, ProfileSeries, RefCurve,
+};
 use pellet_refs::bulk::BulkCorrelation;
 use pellet_refs::radial::RadialCorrelation;
 use pellet_refs::registry::Reference;
@@ -11,6 +13,7 @@ use pellet_refs::scoring::{radial_curve, Bed, BulkScore, EpsBChoice};
 use pellet_refs::{Grade, NDefinition, Shape};
 
 use crate::beds::SimProfile;
+use crate::inputs::Summary;
 use crate::plot_path;
 
 fn style(grade: Grade) -> CurveStyle {
@@ -44,8 +47,64 @@ pub fn experiment_points(name: &str, z: &[f64], eps: &[f64]) -> RefCurve {
     )
 }
 
+/// The profile plot's wall (x = 0), axis (x = N/2 in the wall unit, when N is known) and
+/// caption: the axial window of the summaries that describe the profile, and whether the
+/// profile is one bed (a single sample) or a mean with its spread. The summaries describe the
+/// profile when there is one per profile CSV; otherwise the first describes it (as it gives
+/// the profile's dp and D).
+pub fn profile_frame(p: &SimProfile, bed: Option<&Bed>, summaries: &[(String, Summary)]) -> ProfileFrame {
+    let axis = bed.and_then(|b| b.n_for(p.profile.z_unit)).map(|n| n / 2.0);
+    let own = if summaries.len() == p.packings { summaries } else { &summaries[..summaries.len().min(1)] };
+    let mut windows: Vec<([f64; 2], Vec<&str>)> = Vec::new();
+    for (source, s) in own {
+        let Some(w) = s.window_mm else { continue };
+        match windows.iter_mut().find(|(v, _)| *v == w) {
+            Some((_, sources)) => sources.push(source),
+            None => windows.push((w, vec![source])),
+        }
+    }
+    let window = match windows.as_slice() {
+        [] => "axial window not known: no voidprof summary with window_mm describes this profile".to_string(),
+        [(w, sources)] => format!("{} ({})", window_note(w[0], w[1]), sources.join(", ")),
+        several => {
+            let each: Vec<String> = several
+                .iter()
+                .map(|(w, sources)| format!("z = {}–{} mm ({})", format_mm(w[0]), format_mm(w[1]), sources.join(", ")))
+                .collect();
+            format!("ε averaged over different axial windows: {}", each.join("; "))
+        }
+    };
+    let first = own.first().map(|(_, s)| s);
+    let beds_in_summary = first.and_then(|s| s.beds);
+    let samples = match (p.packings, &p.spread, beds_in_summary) {
+        (k, Some(_), _) if k > 1 => spread_note(k, "profiles"),
+        (_, Some(_), Some(k)) if k > 1 => {
+            format!("mean of {k} beds (voidprof summary); the band is the profile CSV's void_fraction_std")
+        }
+        (_, Some(_), _) => "the band is the profile CSV's void_fraction_std".to_string(),
+        (_, None, Some(1)) => {
+            let source = first.and_then(|s| s.per_bed.as_ref()?.first()?.source.clone()).unwrap_or_default();
+            single_bed_note(if source == "-" { "stdin" } else { &source })
+        }
+        (_, None, Some(k)) => {
+            format!("mean of {k} beds (voidprof summary); their spread is not in the profile CSV, so none is shown")
+        }
+        (_, None, None) => {
+            "one profile, no spread: if it is of one bed, it is a single sample; beds packed with another seed differ"
+                .to_string()
+        }
+    };
+    ProfileFrame::wall_distance(axis).with_note(window).with_note(samples)
+}
+
 /// profile.png and profile.svg.
-pub fn profile_plot(dir: &Path, p: &SimProfile, bed: Option<&Bed>, curves: &[RefCurve]) -> Result<Vec<PathBuf>> {
+pub fn profile_plot(
+    dir: &Path,
+    p: &SimProfile,
+    bed: Option<&Bed>,
+    frame: &ProfileFrame,
+    curves: &[RefCurve],
+) -> Result<Vec<PathBuf>> {
     let label = if p.packings > 1 { format!("simulated, mean of {}", p.packings) } else { "simulated".into() };
     let mut series = ProfileSeries::new(label, p.profile.z.clone(), p.profile.eps.clone());
     if let Some(s) = &p.spread {
@@ -61,7 +120,7 @@ pub fn profile_plot(dir: &Path, p: &SimProfile, bed: Option<&Bed>, curves: &[Ref
     let mut paths = Vec::new();
     for ext in ["png", "svg"] {
         let path = plot_path(dir, "profile", ext);
-        pellet_plot::plot_profile_with_x_label(&path, &title, &x_label, std::slice::from_ref(&series), curves)?;
+        pellet_plot::plot_profile_with_x_label(&path, &title, &x_label, frame, std::slice::from_ref(&series), curves)?;
         paths.push(path);
     }
     Ok(paths)

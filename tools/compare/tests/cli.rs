@@ -595,3 +595,54 @@ fn the_table_is_aligned_and_says_what_the_json_says() {
     assert!(stdout.starts_with(&text) && stdout.contains("report: r/report.md"), "{stdout}");
     assert_error(&compare(dir.path(), &[&args[..], &["--table", "r/scores.csv"]].concat()), "scores.csv");
 }
+
+/// The text of an SVG, XML entities undone.
+fn svg_text(path: &Path) -> String {
+    std::fs::read_to_string(path).unwrap().replace("&apos;", "'").replace("&quot;", "\"").replace("&amp;", "&")
+}
+
+#[test]
+fn the_profile_plot_marks_wall_and_axis_and_states_the_window_and_the_beds() {
+    let dir = tempfile::tempdir().unwrap();
+    write_profile(&dir.path().join("profile.csv"), 0.0);
+    write_profile(&dir.path().join("other.csv"), 0.3);
+    let mut s = serde_json::json!({
+        "bulk_porosity": 0.425, "window_mm": [0.0, 25.0], "beds": 1, "per_bed": [{"source": "out/bed.packing"}],
+        "shape": "sphere", "pellet_diameter_mm": DP, "dpv_mm": DP, "tube_diameter_mm": D, "N": D / DP, "N_dpv": D / DP
+    });
+    std::fs::write(dir.path().join("summary.json"), s.to_string()).unwrap();
+    // One bed, as the default pipeline: its window and that it is a single sample.
+    let out = compare(dir.path(), &["profile.csv", "--summary", "summary.json", "--ref", "de-klerk", "-o", "r"]);
+    assert_exit(&out, 0);
+    let one = svg_text(&dir.path().join("r/profile.svg"));
+    for needle in [
+        "wall (r = R)",
+        "axis (r = 0)",
+        "ε averaged over the axial window z = 0–25 mm (summary.json)",
+        "one bed (out/bed.packing): a single sample; beds packed with another seed differ",
+    ] {
+        assert!(one.contains(needle), "profile.svg lacks {needle:?}");
+    }
+    // The axis, at N/2 = 3, is the profile's far end: drawn in the chart, not named beyond it.
+    assert!(!one.contains('→'));
+
+    // Two profiles and no summary: their spread, and neither window nor axis known.
+    let out = compare(dir.path(), &["profile.csv", "other.csv", "--dp", "10", "--ref", "de-klerk", "-o", "r2"]);
+    assert_exit(&out, 0);
+    let two = svg_text(&dir.path().join("r2/profile.svg"));
+    for needle in [
+        "wall (r = R)",
+        "mean of 2 profiles; the band is ± 1 standard deviation over them",
+        "axial window not known: no voidprof summary with window_mm describes this profile",
+    ] {
+        assert!(two.contains(needle), "profile.svg lacks {needle:?}");
+    }
+
+    // A summary of several beds whose profile CSV carries no spread says so.
+    s["beds"] = 3.into();
+    std::fs::write(dir.path().join("summary.json"), s.to_string()).unwrap();
+    let out = compare(dir.path(), &["profile.csv", "--summary", "summary.json", "--ref", "de-klerk", "-o", "r3"]);
+    assert_exit(&out, 0);
+    let three = svg_text(&dir.path().join("r3/profile.svg"));
+    assert!(three.contains("mean of 3 beds (voidprof summary); their spread is not in the profile CSV"), "{three}");
+}

@@ -108,6 +108,12 @@ pub struct ProfileResult {
     pub shape: Shape,
     /// N = D/dp.
     pub n: f64,
+    /// N = D/dpv.
+    pub n_dpv: f64,
+    /// The ids of the beds (one per seed) averaged.
+    pub beds: Vec<String>,
+    /// The distinct axial windows [z0, z1] (mm) the beds' profiles were averaged over.
+    pub windows_mm: Vec<[f64; 2]>,
     /// Wall distance in the unit of `z_unit` (dp for spheres, dpv otherwise).
     pub z: Vec<f64>,
     /// The unit of `z`.
@@ -185,7 +191,25 @@ pub fn profiles(groups: &[Group]) -> Vec<ProfileResult> {
                 });
             }
         }
-        out.push(ProfileResult { config: g.row.config.clone(), shape, n: first.n_dp, z, z_unit, mean, std, scores });
+        let mut windows_mm: Vec<[f64; 2]> = Vec::new();
+        for w in with.iter().filter_map(|(b, _)| b.window_mm) {
+            if !windows_mm.contains(&w) {
+                windows_mm.push(w);
+            }
+        }
+        out.push(ProfileResult {
+            config: g.row.config.clone(),
+            shape,
+            n: first.n_dp,
+            n_dpv: first.n_dpv,
+            beds: with.iter().map(|(b, _)| b.id.clone()).collect(),
+            windows_mm,
+            z,
+            z_unit,
+            mean,
+            std,
+            scores,
+        });
     }
     out
 }

@@ -27,6 +27,8 @@ pub struct BedResult {
     pub n_dpv: f64,
     /// Pellets in the bed.
     pub pellets: u64,
+    /// voidprof's axial window [z0, z1] (mm), if its summary says.
+    pub window_mm: Option<[f64; 2]>,
     /// Radial profile: wall distance in dp, in dpv, and ε (wall to axis).
     pub profile: Option<(Vec<f64>, Vec<f64>, Vec<f64>)>,
     /// settle-check's verdict, if its report exists.
@@ -127,6 +129,10 @@ fn read_bed(dirs: &[&Path], id: &str) -> Result<Option<BedResult>> {
         n_dp: num("N")?,
         n_dpv: num("N_dpv")?,
         pellets: s["pellets"].as_u64().unwrap_or(0),
+        window_mm: match s["window_mm"].as_array().map(|w| w.iter().map(Value::as_f64).collect::<Vec<_>>()) {
+            Some(w) if w.len() == 2 => w[0].zip(w[1]).map(|(z0, z1)| [z0, z1]),
+            _ => None,
+        },
         profile,
         settled: settle.as_ref().and_then(|v| v["settled"].as_bool()),
         sim_time_s: settle.as_ref().and_then(|v| v["frame_time_s"].as_f64()),

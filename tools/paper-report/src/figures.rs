@@ -5,8 +5,12 @@
 use std::path::Path;
 
 use anyhow::Result;
-use pellet_plot::{plot_porosity_vs_n, plot_profile_with_x_label, Chart, CurveStyle, ProfileSeries, RefCurve};
+use pellet_plot::{
+    format_mm, plot_porosity_vs_n, plot_profile_with_x_label, single_bed_note, spread_note, window_note, Chart,
+    CurveStyle, ProfileFrame, ProfileSeries, RefCurve,
+};
 use pellet_refs::bulk::{Formula, BULK};
+use pellet_refs::scoring::ZUnit;
 use pellet_refs::{Grade, Shape};
 
 use crate::analysis::{dixon, ProfileResult, StudySeries, TubeResult};
@@ -48,6 +52,26 @@ pub fn porosity_vs_n(dir: &Path, shape: Shape, tubes: &[TubeResult]) -> Result<O
     Ok(Some(name))
 }
 
+/// The profile plot's wall (x = 0), axis (x = N/2 in the wall unit) and caption: the axial
+/// window and over how many seeds the spread is.
+pub fn profile_frame(p: &ProfileResult) -> ProfileFrame {
+    let n = if p.z_unit == ZUnit::Dp { p.n } else { p.n_dpv };
+    let window = match p.windows_mm.as_slice() {
+        [] => "axial window not known (no window_mm in the beds' voidprof summaries)".to_string(),
+        [w] => window_note(w[0], w[1]),
+        several => {
+            let each: Vec<String> =
+                several.iter().map(|w| format!("z = {}–{} mm", format_mm(w[0]), format_mm(w[1]))).collect();
+            format!("ε averaged over different axial windows: {}", each.join(", "))
+        }
+    };
+    let seeds = match p.beds.as_slice() {
+        [one] => single_bed_note(one),
+        many => spread_note(many.len(), "seeds"),
+    };
+    ProfileFrame::wall_distance(Some(n / 2.0)).with_note(window).with_note(seeds)
+}
+
 /// One tube's mean radial profile ± its spread over seeds, with its references.
 pub fn profile(dir: &Path, p: &ProfileResult) -> Result<String> {
     let name = format!("profile_{}.png", p.config);
@@ -68,7 +92,7 @@ pub fn profile(dir: &Path, p: &ProfileResult) -> Result<String> {
         .collect();
     let x = format!("(R − r)/{}", p.z_unit.name());
     let title = format!("Radial void fraction, {} N = {:.2}", p.shape.name(), p.n);
-    plot_profile_with_x_label(&dir.join(&name), &title, &x, &series, &refs)?;
+    plot_profile_with_x_label(&dir.join(&name), &title, &x, &profile_frame(p), &series, &refs)?;
     Ok(name)
 }
 
@@ -92,7 +116,7 @@ pub fn parameter(dir: &Path, study: &str, series: &[StudySeries]) -> Result<Opti
     } else {
         ("Bulk porosity against friction (COR = 0.6), mean ± std", "pellet–pellet friction μ")
     };
-    Chart { title, x_label: x, y_label: "bulk porosity ε", series: &drawn, references: &[] }
+    Chart { title, x_label: x, y_label: "bulk porosity ε", series: &drawn, references: &[], frame: None }
         .render(&dir.join(&name))?;
     Ok(Some(name))
 }

@@ -156,6 +156,7 @@ mod tests {
             n_dp: 4.0,
             n_dpv: 4.0,
             pellets: 1,
+            window_mm: None,
             profile: None,
             settled: Some(settled),
             sim_time_s: None,

@@ -83,7 +83,8 @@ pub struct Args {
     /// Add the coordination number and the orientation of pellet axes to the summary.
     #[arg(long)]
     pub structure: bool,
-    /// Draw ε against (R − r)/dp to this file (.png or .svg; repeat for both).
+    /// Draw ε against (R − r)/dp to this file (.png or .svg; repeat for both); the plot marks
+    /// the wall and the axis and names the window and the number of beds.
     #[arg(long, value_name = "FILE")]
     pub plot: Vec<String>,
     /// Surface gap below which two pellets count as touching (mm, up to dp/5) [default: dp/100].
@@ -174,7 +175,9 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
 }
 
 /// ε against the wall distance in dp: the mean over the beds, with ± one
-/// standard deviation as a band when there are several.
+/// standard deviation as a band when there are several. The chart marks the
+/// wall and the axis, and its caption names the axial window and says
+/// whether the profile is one bed (a single sample) or a mean.
 fn plot(m: &Measurement, path: &std::path::Path) -> anyhow::Result<()> {
     let s = &m.stats;
     // Wall first, so that x ascends.
@@ -186,15 +189,20 @@ fn plot(m: &Measurement, path: &std::path::Path) -> anyhow::Result<()> {
     if s.count > 1 {
         series.spread = Some(order.iter().map(|&i| s.std[i]).collect());
     }
-    let title = format!(
-        "{} bed, D = {:.2} mm, N = D/dp = {:.2}, window {:.0}–{:.0} mm",
-        m.shape,
-        m.tube_diameter * 1e3,
-        m.tube_diameter / m.dp,
-        m.window.0 * 1e3,
-        m.window.1 * 1e3
-    );
-    pellet_plot::plot_profile(path, &title, &[series], &[]).map_err(|e| anyhow::anyhow!("{e}"))
+    let title =
+        format!("{} bed, D = {:.2} mm, N = D/dp = {:.2}", m.shape, m.tube_diameter * 1e3, m.tube_diameter / m.dp);
+    pellet_plot::plot_profile(path, &title, &plot_frame(m), &[series], &[]).map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// The plot's wall (x = 0), axis (x = R/dp) and caption: the window and how many beds.
+fn plot_frame(m: &Measurement) -> pellet_plot::ProfileFrame {
+    let how = if m.window_rule.is_some() { "voidprof's default window" } else { "given by --window" };
+    let window = format!("{} ({how})", pellet_plot::window_note(m.window.0 / MM, m.window.1 / MM));
+    let beds = match m.beds.as_slice() {
+        [one] => pellet_plot::single_bed_note(if one.source == "-" { "stdin" } else { &one.source }),
+        many => pellet_plot::spread_note(many.len(), "beds"),
+    };
+    pellet_plot::ProfileFrame::wall_distance(Some(m.stats.tube_radius / m.dp)).with_note(window).with_note(beds)
 }
 
 /// Reads the beds named by the arguments.

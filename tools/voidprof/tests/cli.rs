@@ -354,3 +354,41 @@ fn a_closed_stdout_is_an_error_not_a_silent_success() {
     assert_ok(&out);
     assert!(dir.path().join("p.csv").exists());
 }
+
+#[test]
+fn the_plot_marks_wall_and_axis_and_states_the_window_and_the_beds() {
+    let dir = tempfile::tempdir().unwrap();
+    let bed = simple_cubic(&sphere(), 40.0 * MM, 10.0 * MM, 3);
+    std::fs::write(dir.path().join("bed.packing"), packing_bytes(&bed)).unwrap();
+    std::fs::write(dir.path().join("other.packing"), packing_bytes(&bed)).unwrap();
+    // The SVG's text, XML entities undone.
+    let svg = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap().replace("&apos;", "'");
+    // One bed, the window given.
+    let out = voidprof(dir.path(), &["bed.packing", "--window", "2.5,25", "-o", "p.csv", "--plot", "one.svg"], None);
+    assert_ok(&out);
+    let one = svg("one.svg");
+    for needle in [
+        "wall (r = R)",
+        "axis (r = 0)",
+        "ε averaged over the axial window z = 2.5–25 mm (given by --window)",
+        "one bed (bed.packing): a single sample; beds packed with another seed differ",
+        "N = D/dp = 4.00",
+    ] {
+        assert!(one.contains(needle), "one.svg lacks {needle:?}");
+    }
+    // The axis lies in the chart (x = R/dp = 2, the profile's far end): no arrow beyond it.
+    assert!(!one.contains('→'));
+    // Two beds, the default window (the bed's top, 30 mm, minus dp): a mean with its band.
+    let out = voidprof(dir.path(), &["bed.packing", "other.packing", "-o", "p.csv", "--plot", "two.svg"], None);
+    assert_ok(&out);
+    let two = svg("two.svg");
+    for needle in [
+        "wall (r = R)",
+        "axis (r = 0)",
+        "ε averaged over the axial window z = 0–20 mm (voidprof's default window)",
+        "mean of 2 beds; the band is ± 1 standard deviation over them",
+    ] {
+        assert!(two.contains(needle), "two.svg lacks {needle:?}");
+    }
+    assert!(!two.contains("one bed"));
+}
