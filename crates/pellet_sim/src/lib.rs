@@ -47,7 +47,6 @@ pub use params::{
     ApproachBound, EngineParams, FrictionClamp, IterativeSolver, Material, Stepper, VelocityParams, WallMaterial,
 };
 pub use pipeline::ledger::EnergyLedger;
-pub use pipeline::step::{ContactRecord, Pipeline, StepReport, WarmForce};
-pub use pipeline::velocity_step::WarmImpulse;
+pub use pipeline::step::{ContactRecord, Pipeline, StepReport, WarmForce, WarmImpulse};
 pub use pipeline::world::{World, WorldState};
 pub use shape::{BodyType, ShapeDesc};

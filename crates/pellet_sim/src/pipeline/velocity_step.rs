@@ -9,7 +9,7 @@
 //! decided before gravity's increment.
 
 use super::proximity::wall_closing;
-use super::step::{Pipeline, StepReport};
+use super::step::{Pipeline, StepReport, WarmImpulse};
 use super::world::World;
 use crate::body::Body;
 use crate::container::WallId;
@@ -21,24 +21,6 @@ use crate::geometry::contact::{Contact, ContactKey, Counterpart};
 use crate::geometry::narrow_phase::{collide_pair_kept, collide_wall};
 use crate::math::{Real, Vec3};
 use crate::shape::ShapeDesc;
-use serde::{Deserialize, Serialize};
-
-/// A contact's impulses of the last committed step, kept by key: the warm start of the next
-/// step's solve, as forces (impulse / h) so that a step of another length starts from the
-/// same forces. A checkpoint carries them (they shape the next answer).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct WarmImpulse {
-    /// The contact.
-    pub key: ContactKey,
-    /// Normal impulse over the step length, N.
-    pub normal: Real,
-    /// Friction impulse on body A over the step length, world frame, N.
-    pub friction: Vec3,
-    /// The relative normal velocity (m/s, < 0) with which the contact was closing when the
-    /// last step stopped it at the touching gap; 0 if it was not. The next step's restitution
-    /// acts on this speed, as the impact happened at the end of that step.
-    pub approach: Real,
-}
 
 /// Near pairs and walls over the coming step, with the bound on each one's relative surface
 /// speed (m/s) that sizes its speculative contacts.
@@ -119,10 +101,13 @@ impl World {
         near
     }
 
-    /// Advances by `dt_big` with the velocity-level stepper.
-    pub(crate) fn step_velocity(&mut self, dt_big: Real, pipeline: &mut Pipeline) -> Result<StepReport, SimError> {
-        let mut report = StepReport { dt_min: Real::INFINITY, ..StepReport::default() };
-        let t_end = self.time + dt_big;
+    /// Advances to `t_end` with the velocity-level stepper.
+    pub(super) fn step_velocity(
+        &mut self,
+        t_end: Real,
+        pipeline: &mut Pipeline,
+        report: &mut StepReport,
+    ) -> Result<(), SimError> {
         let vp = self.params.velocity;
         let d = self.reference_size();
         while t_end - self.time > 1e-14 * t_end.abs().max(1e-3) {
@@ -130,7 +115,7 @@ impl World {
             let horizon = remaining.min(vp.max_step);
             let near = self.near(pipeline, horizon);
             if near.pairs.is_empty() && near.walls.is_empty() {
-                self.free_flight(horizon, &mut report);
+                self.free_flight(horizon, report);
                 report.free_flights += 1;
                 self.time = if horizon == remaining { t_end } else { self.time + horizon };
                 pipeline.impulses.clear();
@@ -144,17 +129,9 @@ impl World {
             // Equal steps to the end of the big step, not a sliver at its end.
             let n = (remaining / h * (1.0 - 1e-12)).ceil().max(1.0);
             h = remaining / n;
-            self.velocity_substep(h, n == 1.0, t_end, &near, pipeline, &mut report)?;
+            self.velocity_substep(h, n == 1.0, t_end, &near, pipeline, report)?;
         }
-        self.time = t_end;
-        report.energy.kinetic_translational = self.bodies.iter().map(Body::kinetic_translational).sum();
-        report.energy.kinetic_rotational = self.bodies.iter().map(Body::kinetic_rotational).sum();
-        report.energy.potential = self.potential_energy();
-        self.totals.accumulate(&report.energy);
-        if report.dt_min == Real::INFINITY {
-            report.dt_min = 0.0;
-        }
-        Ok(report)
+        Ok(())
     }
 
     fn speculative_contacts(&self, near: &Near, h: Real, pipeline: &mut Pipeline) -> Result<Vec<Contact>, SimError> {

@@ -1,0 +1,77 @@
+//! Position projection as both steppers call it: the bounds on how fast a gap can close, and
+//! the re-evaluation of a contact at moved poses (`dynamics::stabilize` does the projecting).
+
+use super::step::StepReport;
+use super::world::World;
+use crate::body::Body;
+use crate::container::Container;
+use crate::dynamics::stabilize::{project_positions, GapBounds, ProjectionStats};
+use crate::geometry::contact::Contact;
+use crate::geometry::contact_sampled::gap_jump;
+use crate::geometry::narrow_phase::{collide_feature, Pellet};
+use crate::geometry::samples::GeometryCache;
+use crate::geometry::sdf::lipschitz;
+use crate::math::Real;
+use crate::params::Stepper;
+use crate::shape::{BodyType, ShapeDesc};
+
+impl World {
+    /// The projection's bounds on how fast a gap can close (`GapBounds`): a point a gap is
+    /// measured from or in lies within the two bodies' bounding radii of either centre (plus a
+    /// gap of up to the largest radius, far above any contact's look-ahead). A sphere's turn
+    /// changes none of its gaps (each is a function of its centre), so its lever is zero.
+    pub fn gap_bounds(&self) -> GapBounds {
+        let shape = |b: &Body| &self.types[b.type_id.0 as usize].shape;
+        let radius = |b: &Body| self.types[b.type_id.0 as usize].bounding_radius_m;
+        let r_max = self.bodies.iter().map(radius).fold(0.0, Real::max);
+        let lean = self.params.stepper == Stepper::Velocity;
+        let lever = |b: &Body| match shape(b) {
+            ShapeDesc::Sphere { .. } => 0.0,
+            _ => radius(b) + 2.0 * r_max,
+        };
+        GapBounds {
+            lipschitz: self.types.iter().map(|t| lipschitz(&t.shape)).fold(1.0, Real::max),
+            lever: self.bodies.iter().map(lever).collect(),
+            jump: self.bodies.iter().map(|b| gap_jump(shape(b), radius(b), lean)).collect(),
+        }
+    }
+
+    /// Position projection of the bodies, moved from `generated_at` where `contacts` were
+    /// found (shared by both steppers), timed into `report`.
+    pub(super) fn project(
+        &mut self,
+        contacts: &[Contact],
+        generated_at: &[Body],
+        bounds: &GapBounds,
+        slop: Real,
+        report: &mut StepReport,
+    ) -> ProjectionStats {
+        let d = self.reference_size();
+        let g = self.params.gravity;
+        let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
+        let lean = self.params.stepper == Stepper::Velocity;
+        let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c, lean);
+        let mut bodies = std::mem::take(&mut self.bodies);
+        let clock = std::time::Instant::now();
+        let proj = project_positions(&mut bodies, contacts, generated_at, &eval, bounds, slop, 0.01 * d, &g);
+        report.wall_seconds[3] += clock.elapsed().as_secs_f64();
+        self.bodies = bodies;
+        proj
+    }
+}
+
+/// Re-evaluates one contact's feature at the given poses (the narrow phase for that feature).
+fn reevaluate(
+    types: &[BodyType],
+    geometry: &GeometryCache,
+    container: &Container,
+    bodies: &[Body],
+    c: &Contact,
+    lean: bool,
+) -> Option<Contact> {
+    let pellet = |k: usize| {
+        let t = bodies[k].type_id.0 as usize;
+        Pellet { index: k, body: &bodies[k], shape: &types[t].shape, geom: &geometry.types[t] }
+    };
+    collide_feature(container, pellet(c.a), c.b_body().map(pellet), &c.key, lean)
+}
