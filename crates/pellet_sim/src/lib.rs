@@ -27,15 +27,15 @@
 //! ```
 #![deny(missing_docs)]
 
-pub mod body;
-pub mod container;
+mod body;
+mod container;
 pub mod dynamics;
-pub mod error;
+mod error;
 pub mod geometry;
-pub mod math;
-pub mod params;
-pub mod pipeline;
-pub mod shape;
+mod math;
+mod params;
+mod pipeline;
+mod shape;
 
 pub use body::{Body, BodyId, TypeId};
 pub use container::{Container, PlaneWall, WallId};
@@ -46,7 +46,5 @@ pub use math::{Mat3, Quat, Real, Vec3};
 pub use params::{
     ApproachBound, EngineParams, FrictionClamp, IterativeSolver, Material, Stepper, VelocityParams, WallMaterial,
 };
-pub use pipeline::ledger::EnergyLedger;
-pub use pipeline::step::{ContactRecord, Pipeline, StepReport, WarmForce, WarmImpulse};
-pub use pipeline::world::{World, WorldState};
+pub use pipeline::{ContactRecord, EnergyLedger, Pipeline, StepReport, WarmForce, WarmImpulse, World, WorldState};
 pub use shape::{BodyType, ShapeDesc};

@@ -1,19 +1,24 @@
 //! Dynamics: integration, contact rows, the LCP solvers, the collision and resting phases and
 //! position projection.
+//!
+//! Public: the integrator, the contact rows and the LCP solvers, which the solver tests drive
+//! directly, and the projection's gap bounds that `World::gap_bounds` returns.
 
 mod by_body;
-pub mod collide;
-pub mod coupled_pgs;
-pub mod friction_guard;
+pub(crate) mod collide;
+mod coupled_pgs;
+mod friction_guard;
 mod friction_scatter;
-pub mod friction_update;
-pub mod impulse_solve;
+mod friction_update;
+pub(crate) mod impulse_solve;
 pub mod integrator;
-pub mod island_solve;
-pub mod islands;
+mod island_solve;
+mod islands;
 pub mod lcp;
 mod linear_product;
-pub mod polish_momentum;
-pub mod resting;
+mod polish_momentum;
+pub(crate) mod resting;
 pub mod rows;
-pub mod stabilize;
+pub(crate) mod stabilize;
+
+pub use stabilize::GapBounds;

@@ -1,15 +1,18 @@
 //! Collision geometry: the broad phase (candidate pairs) and the narrow phase (contact points).
+//!
+//! Public: the narrow phase's interface and the per-type geometry and cache it reads, which the
+//! contact tests drive directly.
 
-pub mod broad_phase;
-pub mod contact;
-pub(crate) mod contact_lateral;
-pub mod contact_sampled;
-pub mod contact_shape_wall;
-pub mod contact_sphere_sphere;
-pub mod contact_sphere_wall;
+mod broad_phase;
+pub(crate) mod contact;
+mod contact_lateral;
+pub(crate) mod contact_sampled;
+mod contact_shape_wall;
+pub(crate) mod contact_sphere_sphere;
+mod contact_sphere_wall;
 pub mod narrow_phase;
-pub mod pair_cache;
-pub mod patch;
+pub(crate) mod pair_cache;
+mod patch;
 pub mod sample_cache;
 pub mod samples;
-pub mod sdf;
+pub(crate) mod sdf;

@@ -59,6 +59,7 @@ impl PairCache {
     }
 
     /// Grid builds and queries so far.
+    #[cfg(test)]
     pub fn counts(&self) -> (u64, u64) {
         (self.builds, self.queries)
     }

@@ -1,9 +1,14 @@
-//! The world state, the stepping pipeline and the energy ledger.
+//! The world and its stepping: the world state, one step of either stepper, position projection
+//! as both call it, and the energy ledger.
 
 mod acceleration_step;
-pub mod ledger;
+mod ledger;
 mod projection;
 mod proximity;
-pub mod step;
-pub mod velocity_step;
-pub mod world;
+mod step;
+mod velocity_step;
+mod world;
+
+pub use ledger::EnergyLedger;
+pub use step::{ContactRecord, Pipeline, StepReport, WarmForce, WarmImpulse};
+pub use world::{World, WorldState};
