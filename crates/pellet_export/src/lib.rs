@@ -13,6 +13,7 @@
 //! - [`clip`]: closed meshes cut at horizontal planes and capped (slabs of a bed).
 //! - [`contacts`]: pellet–pellet and pellet–wall gaps below a threshold.
 //! - [`treatment`]: global shrink, bridges and caps, with the porosity change of each.
+//! - [`unite`]: the union of overlapping closed meshes (pellets and bridges) as one manifold surface.
 //! - [`stl`], [`vtk`], [`voxels`], [`poses`]: the file formats (specified in each module).
 //!
 //! ```
@@ -34,6 +35,7 @@ pub mod poses;
 pub mod scene;
 pub mod stl;
 pub mod treatment;
+pub mod unite;
 pub mod voxels;
 pub mod vtk;
 
@@ -47,4 +49,7 @@ pub enum ExportError {
     /// A parameter is out of range; the message names it and the range.
     #[error("{0}")]
     BadParameter(String),
+    /// The union of the surfaces could not be formed; the message says which surface and why.
+    #[error("{0}")]
+    Union(String),
 }

@@ -13,6 +13,7 @@ use pellet_cli::{mm_in_range, Outcome};
 use pellet_export::openfoam::{self, CaseGeometry};
 use pellet_export::scene::{enclosed_volume, tube_mesh};
 use pellet_export::treatment::{self, Treatment};
+use pellet_export::unite::unite;
 use pellet_geom::{Bed, TriMesh};
 
 use crate::{Args, MM};
@@ -109,21 +110,41 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
     let selected: Vec<usize> = (0..bed.pellets.len()).collect();
     let contact_gap = mm("--contact-gap", args.contact_gap)?.unwrap_or(dp / 100.0);
     let treated = treatment::apply(bed, &selected, (0.0, top), &plan, contact_gap)?;
+    let pellets = treated.meshes.len();
     let mut surfaces: Vec<TriMesh> = treated.meshes;
     let bridges = treated.bridges.len();
     surfaces.extend(treated.bridges.into_iter().map(|b| b.mesh));
-    let mut merged = TriMesh::default();
-    for m in &surfaces {
-        let base = merged.vertices.len() as u32;
-        merged.vertices.extend_from_slice(&m.vertices);
-        merged.triangles.extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
-    }
     let location = openfoam::location_in_mesh(&surfaces, radius, z0, z1, 2.0 * cell)
         .context("found no fluid point in the tube for locationInMesh")?;
     let g = CaseGeometry { radius, z0, z1, cell, location };
-    let tube_volume = enclosed_volume(&tube_mesh(radius, z0, z1, args.tube_segments));
-    // Bridges overlap the pellets, so their sum is not the solid then.
-    let solid: f64 = surfaces.iter().map(enclosed_volume).sum();
+    let tube = tube_mesh(radius, z0, z1, args.tube_segments);
+    let tube_volume = enclosed_volume(&tube);
+    // Bridges overlap the pellets they join: the mesher needs the union's
+    // surface (no faces inside a solid, the real concave edge where a
+    // bridge meets a pellet), and the solid volume counts overlaps once.
+    // Other treatments leave the pellets apart, so their surfaces are
+    // written as they are.
+    let (merged, solid, pieces) = if bridges > 0 {
+        let refs: Vec<&TriMesh> = surfaces.iter().collect();
+        let name = |k: usize| {
+            if k < pellets {
+                format!("pellet {k}")
+            } else {
+                format!("bridge {}", k - pellets)
+            }
+        };
+        let united = unite(&refs, &name)?;
+        let solid = united.volume_in_tube(&tube)?;
+        (united.mesh(), solid, Some(united.pieces()))
+    } else {
+        let mut merged = TriMesh::default();
+        for m in &surfaces {
+            let base = merged.vertices.len() as u32;
+            merged.vertices.extend_from_slice(&m.vertices);
+            merged.triangles.extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
+        }
+        (merged, surfaces.iter().map(enclosed_volume).sum(), None)
+    };
     let treatment_name = format!("{chosen:?}").to_lowercase();
     let files: Vec<(&str, Vec<u8>)> = vec![
         ("constant/triSurface/pellets.stl", pellet_export::stl::ascii(&[("pellets".into(), &merged)], 1.0)),
@@ -166,15 +187,21 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
             line.parameters
         );
     }
-    if bridges == 0 {
+    if let Some(pieces) = pieces {
         let _ = writeln!(
             s,
-            "fluid volume: {:.6e} m3 (tube {:.6e} m3 minus solid {:.6e} m3)",
-            tube_volume - solid,
-            tube_volume,
-            solid
+            "pellets.stl: {} pellets and {bridges} bridges united into one closed surface ({} triangles, {pieces} separate pieces)",
+            pellets,
+            merged.triangles.len()
         );
     }
+    let _ = writeln!(
+        s,
+        "fluid volume: {:.6e} m3 (tube {:.6e} m3 minus solid {:.6e} m3 inside it)",
+        tube_volume - solid,
+        tube_volume,
+        solid
+    );
     pellet_cli::print_stdout(&s)?;
     Ok(Outcome::Success)
 }
