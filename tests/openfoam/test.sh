@@ -2,7 +2,9 @@
 # test.sh BIN (make test-openfoam): a 20-sphere and a 20-cylinder bed (10 mm
 # pellets, 30 mm tube) made with the binaries in BIN, exported with
 # `bedexport --openfoam` (0.5 mm cells, default caps), meshed with OpenFOAM
-# (Debian's openfoam package, installed when missing): blockMesh,
+# (Debian's openfoam package, installed when missing): surfaceCheck must find
+# pellets.stl closed and not self-intersecting (also with --treatment bridges
+# and none), and blockMesh,
 # surfaceFeatureExtract, snappyHexMesh and checkMesh must give "Mesh OK",
 # one region, the patches inlet, outlet, wall and pellets, and a fluid
 # volume within 2 % of the tube minus the pellets. Fails (exit 1) when
@@ -30,6 +32,20 @@ fi
 work=$(mktemp -d "${TMPDIR:-/tmp}/packbed-openfoam.XXXXXX") || exit 2
 [ "${KEEP:-0}" = 1 ] && say "keeping $work" || trap 'rm -rf "$work"' EXIT
 cd "$work" || exit 2
+# surface_check NAME CASE: surfaceCheck finds CASE's pellets.stl one closed surface
+# that does not cross itself (-outputThreshold 0: it writes no part files).
+surface_check() {
+    (cd "$2" && surfaceCheck -checkSelfIntersection -outputThreshold 0 constant/triSurface/pellets.stl) \
+        >"$2/log.surfaceCheck" 2>&1 || { tail -n 30 "$2/log.surfaceCheck" >&2; fail "$1: surfaceCheck failed (log above)"; }
+    for ok in "Surface has no illegal triangles." "Surface is closed. All edges connected to two faces." \
+        "Surface is not self-intersecting"; do
+        grep -qF "$ok" "$2/log.surfaceCheck" || {
+            grep -E "illegal|closed|self-intersecting" "$2/log.surfaceCheck" >&2
+            fail "$1: pellets.stl: surfaceCheck did not say \"$ok\""
+        }
+    done
+    say "$1: surfaceCheck: pellets.stl closed, not self-intersecting ($(sed -n 's/^Triangles *: \([0-9]*\).*/\1/p' "$2/log.surfaceCheck") triangles)"
+}
 mesh_bed() { # name, mkpellet arguments…
     name=$1; shift
     mkdir "$name" && cd "$name" || exit 2
@@ -39,6 +55,12 @@ mesh_bed() { # name, mkpellet arguments…
     say "$name: bed made"
     "$bin/bedexport" b.packing --openfoam case --cell-size 0.5 --inlet 5 --outlet 5 >export.log 2>&1 \
         || { cat export.log >&2; fail "$name: bedexport --openfoam"; }
+    surface_check "$name" case
+    for t in bridges none; do
+        "$bin/bedexport" b.packing --openfoam case-$t --treatment $t --cell-size 0.5 --inlet 5 --outlet 5 >export-$t.log 2>&1 \
+            || { cat export-$t.log >&2; fail "$name: bedexport --openfoam --treatment $t"; }
+        surface_check "$name (--treatment $t)" case-$t
+    done
     expected=$(sed -n 's/^fluid volume: \([^ ]*\) m3.*/\1/p' export.log)
     [ -n "$expected" ] || { cat export.log >&2; fail "$name: bedexport printed no fluid volume"; }
     cd case || exit 2

@@ -8,12 +8,12 @@
 //! - **bridges**: a small cylinder of a given diameter joins two surfaces
 //!   closer than a gap, along the line between their nearest points, so
 //!   the contact becomes a solid neck the mesher can resolve;
-//! - **caps**: both pellets are flattened near the contact (mesh vertices
-//!   beyond a plane are moved onto it) so that a gap of a given width
-//!   remains between two flat faces.
+//! - **caps**: both pellets are cut flat near the contact (the part beyond
+//!   a plane is taken away by a mesh boolean, [`crate::unite::cut`]) so
+//!   that a gap of a given width remains between two flat faces.
 //!
 //! The same applies to pellet–wall and pellet–floor contacts (a bridge then
-//! runs into the wall or floor; a cap flattens the pellet parallel to the
+//! runs into the wall or floor; a cap cuts the pellet parallel to the
 //! wall's tangent plane or the floor).
 //! Shrink can be combined with either bridges or caps (it is applied first);
 //! bridges and caps exclude each other. Each treatment reports how many
@@ -38,7 +38,7 @@ pub struct Treatment {
     pub shrink: Option<Real>,
     /// Bridges: (gap below which surfaces are joined, bridge diameter).
     pub bridges: Option<(Real, Real)>,
-    /// Caps: the gap left between flattened surfaces closer than it.
+    /// Caps: the gap left between surfaces closer than it, cut flat.
     pub caps: Option<Real>,
 }
 
@@ -197,16 +197,23 @@ pub fn apply(
         let contacts = find_contacts(&treated_bed, indices, gap);
         let slot: HashMap<usize, usize> = indices.iter().enumerate().map(|(k, &i)| (i, k)).collect();
         let before: Real = meshes.iter().map(enclosed_volume).sum();
+        // Each surface keeps to its side of a plane, `gap` apart in all.
+        let mut planes: Vec<Vec<(Vector, Real)>> = vec![Vec::new(); meshes.len()];
         for c in &contacts {
             let mid = c.midpoint();
-            // Each surface keeps to its side of a plane, `gap` apart in all.
             let (offset_own, offset_partner) = match c.partner {
                 Partner::Pellet(_) => (c.normal.dot(&mid.coords) - 0.5 * gap, -c.normal.dot(&mid.coords) - 0.5 * gap),
                 Partner::Wall | Partner::Floor => (c.normal.dot(&c.partner_point.coords) - gap, 0.0),
             };
-            flatten(&mut meshes[slot[&c.pellet]], &c.normal, offset_own);
+            planes[slot[&c.pellet]].push((c.normal, offset_own));
             if let Partner::Pellet(j) = c.partner {
-                flatten(&mut meshes[slot[&j]], &-c.normal, offset_partner);
+                planes[slot[&j]].push((-c.normal, offset_partner));
+            }
+        }
+        for (k, (mesh, planes)) in meshes.iter_mut().zip(&planes).enumerate() {
+            if !planes.is_empty() {
+                *mesh = crate::unite::cut(mesh, planes)
+                    .map_err(|why| ExportError::Union(format!("pellet {}: {why}", indices[k])))?;
             }
         }
         let after: Real = meshes.iter().map(enclosed_volume).sum();
@@ -217,7 +224,7 @@ pub fn apply(
             wall_contacts,
             floor_contacts,
             porosity_change: (before - after) / range_volume,
-            parameters: format!("surfaces closer than {:.4} mm flattened to leave {:.4} mm", gap * 1e3, gap * 1e3),
+            parameters: format!("surfaces closer than {:.4} mm cut flat to leave {:.4} mm", gap * 1e3, gap * 1e3),
         });
     }
     Ok(Treated { meshes, bridges, report })
@@ -228,18 +235,6 @@ fn positive(what: &str, value: Real) -> Result<(), ExportError> {
         Ok(())
     } else {
         Err(ExportError::BadParameter(format!("{what} must be > 0 (got {} mm)", pellet_geom::math::shown(value * 1e3))))
-    }
-}
-
-/// Moves every vertex with `n·v > offset` onto the plane `n·v = offset`.
-/// The mesh keeps its connectivity, so it stays closed; triangles whose
-/// corners all moved form the flat cap.
-pub fn flatten(mesh: &mut TriMesh, n: &Vector, offset: Real) {
-    for v in &mut mesh.vertices {
-        let beyond = n.dot(&v.coords) - offset;
-        if beyond > 0.0 {
-            *v -= n * beyond;
-        }
     }
 }
 
@@ -460,7 +455,7 @@ mod tests {
         assert!(line.porosity_change > 0.0);
         let lowest = caps.meshes[2].vertices.iter().map(|v| v.z).fold(Real::MAX, Real::min);
         assert!(lowest >= 0.1e-3 - 1e-12, "{lowest}");
-        // The flattened spheres are 0.1 mm apart: top of the lower at ≤ 9.95 mm, bottom of the upper ≥ 10.05.
+        // The capped spheres are 0.1 mm apart: top of the lower at ≤ 9.95 mm, bottom of the upper ≥ 10.05.
         let top = caps.meshes[0].vertices.iter().map(|v| v.z).fold(Real::MIN, Real::max);
         let bottom = caps.meshes[1].vertices.iter().map(|v| v.z).fold(Real::MAX, Real::min);
         assert!(top <= 9.95e-3 + 1e-12 && bottom >= 10.05e-3 - 1e-12, "{top} {bottom}");

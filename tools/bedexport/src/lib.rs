@@ -133,7 +133,7 @@ pub struct Args {
     /// Diameter of the bridges (mm, up to dp/2) [default: dp/5].
     #[arg(long, value_name = "MM", requires = "bridge_gap")]
     pub bridge_diameter: Option<f64>,
-    /// Flatten surfaces closer than this gap (mm, up to dp/5) so that this gap remains (caps).
+    /// Cut surfaces closer than this gap (mm, up to dp/5) flat so that this gap remains (caps).
     #[arg(long, value_name = "MM")]
     pub cap_gap: Option<f64>,
     /// Gap (mm, up to dp/5) below which --shrink counts a contact as opened [default: dp/100].
