@@ -48,8 +48,9 @@ fuzz:
 test-slurm: build
 	sh tests/slurm/test.sh $(BIN)
 
-# bedexport --openfoam meshed for real: a 20-sphere and a 20-cylinder bed through blockMesh,
-# surfaceFeatureExtract, snappyHexMesh and checkMesh (tests/openfoam/test.sh;
+# bedexport --openfoam meshed for real: a 20-sphere and a 20-cylinder bed through surfaceCheck
+# (pellets.stl closed, not self-intersecting), blockMesh, surfaceFeatureExtract, snappyHexMesh
+# and checkMesh (tests/openfoam/test.sh;
 # installs Debian's openfoam package when missing, fails when it cannot).
 test-openfoam: build
 	sh tests/openfoam/test.sh $(BIN)

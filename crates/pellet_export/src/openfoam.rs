@@ -5,8 +5,8 @@
 //!
 //! # Layout
 //!
-//! - `constant/triSurface/pellets.stl`: every pellet (and bridge) as the one
-//!   ASCII solid `pellets`.
+//! - `constant/triSurface/pellets.stl`: the pellets (and bridges) united
+//!   into one closed surface ([`crate::unite`]), the ASCII solid `pellets`.
 //! - `constant/triSurface/tube.stl`: the tube's inside from the floor minus
 //!   the inlet length to the bed top plus the outlet length, as the ASCII
 //!   solids `wall`, `inlet` (bottom) and `outlet` (top).

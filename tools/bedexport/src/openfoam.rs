@@ -142,7 +142,7 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
     let solid = united.volume_in_tube(&tube)?;
     let treatment_name = format!("{chosen:?}").to_lowercase();
     let files: Vec<(&str, Vec<u8>)> = vec![
-        ("constant/triSurface/pellets.stl", pellet_export::stl::ascii(&[("pellets".into(), &merged)], 1.0)),
+        ("constant/triSurface/pellets.stl", pellet_export::stl::ascii(&[("pellets".into(), merged)], 1.0)),
         ("constant/triSurface/tube.stl", openfoam::tube_stl(radius, z0, z1, args.tube_segments)),
         ("system/controlDict", openfoam::control_dict().into_bytes()),
         ("system/blockMeshDict", openfoam::block_mesh_dict(&g).into_bytes()),
