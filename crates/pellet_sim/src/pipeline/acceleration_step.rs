@@ -137,17 +137,12 @@ impl World {
                 friction_work += ff.dot(&mean) * dt;
                 normal_work += fnormal * c.normal.dot(&mean) * dt;
             }
-            let proj = self.project(&contacts, &pipeline.saved, &bounds, slop, report);
-            if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
-                self.bodies.clone_from(&pipeline.saved);
+            let Some(proj) =
+                self.project_or_rewind(&contacts, &pipeline.saved, &bounds, slop, pen_max, &mut rewinds, report)?
+            else {
                 dt *= 0.5;
-                rewinds += 1;
-                report.rewinds += 1;
                 continue;
-            }
-            if let Some(k) = self.bodies.iter().position(|b| !b.is_finite()) {
-                return Err(SimError::NonFiniteState(k as u32));
-            }
+            };
             report.rotation_substeps += rot_steps;
             report.substeps += 1;
             report.dt_min = report.dt_min.min(dt);

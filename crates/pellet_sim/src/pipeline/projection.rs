@@ -6,6 +6,7 @@ use super::world::World;
 use crate::body::Body;
 use crate::container::Container;
 use crate::dynamics::stabilize::{project_positions, GapBounds, ProjectionStats};
+use crate::error::SimError;
 use crate::geometry::contact::Contact;
 use crate::geometry::contact_sampled::gap_jump;
 use crate::geometry::narrow_phase::{collide_feature, Pellet};
@@ -57,6 +58,34 @@ impl World {
         report.wall_seconds[3] += clock.elapsed().as_secs_f64();
         self.bodies = bodies;
         proj
+    }
+
+    /// [`Self::project`], unless the penetration before it exceeds `pen_max` while rewinds are
+    /// left: then the bodies go back to `saved` (the substep's start), the rewind is counted,
+    /// and `None` asks the caller to halve its step and try again. A body left non-finite is
+    /// an error.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn project_or_rewind(
+        &mut self,
+        contacts: &[Contact],
+        saved: &[Body],
+        bounds: &GapBounds,
+        slop: Real,
+        pen_max: Real,
+        rewinds: &mut u32,
+        report: &mut StepReport,
+    ) -> Result<Option<ProjectionStats>, SimError> {
+        let proj = self.project(contacts, saved, bounds, slop, report);
+        if proj.max_penetration_before > pen_max && *rewinds < self.params.max_rewinds {
+            self.bodies.clone_from_slice(saved);
+            *rewinds += 1;
+            report.rewinds += 1;
+            return Ok(None);
+        }
+        if let Some(k) = self.bodies.iter().position(|b| !b.is_finite()) {
+            return Err(SimError::NonFiniteState(k as u32));
+        }
+        Ok(Some(proj))
     }
 }
 

@@ -260,17 +260,12 @@ impl World {
                     rot_steps += advance(b, &(g * b.mass), &Vec3::zeros(), h, max_rot) as u64;
                 }
             }
-            let proj = self.project(&contacts, &pipeline.saved, &bounds, slop, report);
-            if proj.max_penetration_before > pen_max && rewinds < self.params.max_rewinds {
-                self.bodies.clone_from(&pipeline.saved);
+            let Some(proj) =
+                self.project_or_rewind(&contacts, &pipeline.saved, &bounds, slop, pen_max, &mut rewinds, report)?
+            else {
                 h *= 0.5;
-                rewinds += 1;
-                report.rewinds += 1;
                 continue;
-            }
-            if let Some(k) = self.bodies.iter().position(|b| !b.is_finite()) {
-                return Err(SimError::NonFiniteState(k as u32));
-            }
+            };
             // Work of the impulses: Σ λ·(u⁻ + u⁺)/2 with u⁻ the velocity before gravity's
             // increment, exact for velocities linear in the impulses.
             let (mut normal_work, mut friction_work) = (0.0, 0.0);
