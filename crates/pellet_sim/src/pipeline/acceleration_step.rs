@@ -85,8 +85,6 @@ impl World {
     ) -> Result<(), SimError> {
         let d = self.reference_size();
         let delta_c = self.params.contact_distance_factor * d;
-        let slop = self.params.slop_factor * d;
-        let pen_max = self.params.max_penetration_factor * self.nominal_size();
         pipeline.saved.clone_from(&self.bodies);
         let bounds = self.gap_bounds();
         let mut dt = dt0;
@@ -137,9 +135,7 @@ impl World {
                 friction_work += ff.dot(&mean) * dt;
                 normal_work += fnormal * c.normal.dot(&mean) * dt;
             }
-            let Some(proj) =
-                self.project_or_rewind(&contacts, &pipeline.saved, &bounds, slop, pen_max, &mut rewinds, report)?
-            else {
+            let Some(proj) = self.project_or_rewind(&contacts, &pipeline.saved, &bounds, &mut rewinds, report)? else {
                 dt *= 0.5;
                 continue;
             };

@@ -38,16 +38,16 @@ impl World {
     }
 
     /// Position projection of the bodies, moved from `generated_at` where `contacts` were
-    /// found (shared by both steppers), timed into `report`.
-    pub(super) fn project(
+    /// found (shared by both steppers), down to the slop, timed into `report`.
+    fn project(
         &mut self,
         contacts: &[Contact],
         generated_at: &[Body],
         bounds: &GapBounds,
-        slop: Real,
         report: &mut StepReport,
     ) -> ProjectionStats {
         let d = self.reference_size();
+        let slop = self.params.slop_factor * d;
         let g = self.params.gravity;
         let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
         let lean = self.params.stepper == Stepper::Velocity;
@@ -60,22 +60,20 @@ impl World {
         proj
     }
 
-    /// [`Self::project`], unless the penetration before it exceeds `pen_max` while rewinds are
-    /// left: then the bodies go back to `saved` (the substep's start), the rewind is counted,
-    /// and `None` asks the caller to halve its step and try again. A body left non-finite is
-    /// an error.
-    #[allow(clippy::too_many_arguments)]
+    /// [`Self::project`], unless the penetration before it exceeds the largest allowed
+    /// (`max_penetration_factor` of the pellet size) while rewinds are left: then the bodies go
+    /// back to `saved` (the substep's start), the rewind is counted, and `None` asks the caller
+    /// to halve its step and try again. A body left non-finite is an error.
     pub(super) fn project_or_rewind(
         &mut self,
         contacts: &[Contact],
         saved: &[Body],
         bounds: &GapBounds,
-        slop: Real,
-        pen_max: Real,
         rewinds: &mut u32,
         report: &mut StepReport,
     ) -> Result<Option<ProjectionStats>, SimError> {
-        let proj = self.project(contacts, saved, bounds, slop, report);
+        let pen_max = self.params.max_penetration_factor * self.nominal_size();
+        let proj = self.project(contacts, saved, bounds, report);
         if proj.max_penetration_before > pen_max && *rewinds < self.params.max_rewinds {
             self.bodies.clone_from_slice(saved);
             *rewinds += 1;

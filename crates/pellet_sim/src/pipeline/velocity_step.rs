@@ -167,8 +167,6 @@ impl World {
     ) -> Result<(), SimError> {
         let d = self.reference_size();
         let delta_c = self.params.contact_distance_factor * d;
-        let slop = self.params.slop_factor * d;
-        let pen_max = self.params.max_penetration_factor * self.nominal_size();
         let eps_p = self.params.eps_p;
         let g = self.params.gravity;
         let max_rot = self.params.max_rotation_per_substep;
@@ -260,9 +258,7 @@ impl World {
                     rot_steps += advance(b, &(g * b.mass), &Vec3::zeros(), h, max_rot) as u64;
                 }
             }
-            let Some(proj) =
-                self.project_or_rewind(&contacts, &pipeline.saved, &bounds, slop, pen_max, &mut rewinds, report)?
-            else {
+            let Some(proj) = self.project_or_rewind(&contacts, &pipeline.saved, &bounds, &mut rewinds, report)? else {
                 h *= 0.5;
                 continue;
             };
