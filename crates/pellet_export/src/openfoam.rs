@@ -1,7 +1,8 @@
 //! An OpenFOAM case that meshes the fluid of a bed as it is: blockMesh for
 //! a background box around the tube, surfaceFeatureExtract, then
 //! snappyHexMesh against the pellet surface and the tube (patches `wall`,
-//! `inlet`, `outlet`, `pellets`).
+//! `inlet`, `outlet`, `pellets`); then simpleFoam for a steady laminar flow
+//! along +z ([`Flow`]) whose pressure drop over the packed section is logged.
 //!
 //! # Layout
 //!
@@ -10,8 +11,11 @@
 //! - `constant/triSurface/tube.stl`: the tube's inside from the floor minus
 //!   the inlet length to the bed top plus the outlet length, as the ASCII
 //!   solids `wall`, `inlet` (bottom) and `outlet` (top).
-//! - `system/`: `controlDict`, `blockMeshDict`, `surfaceFeatureExtractDict`,
+//! - `system/`: `controlDict` (simpleFoam, with the pressure function
+//!   objects), `blockMeshDict`, `surfaceFeatureExtractDict`,
 //!   `snappyHexMeshDict`, `meshQualityDict`, `fvSchemes`, `fvSolution`.
+//! - `constant/transportProperties` (Newtonian, ν), `constant/turbulenceProperties`
+//!   (laminar), `0/U` (m/s) and `0/p` (kinematic, m²/s²).
 //! - `README`: the commands and the OpenFOAM version tested.
 //!
 //! Coordinates are metres (OpenFOAM reads every length as metres). The
@@ -120,13 +124,96 @@ fn header(class: &str, object: &str) -> String {
     )
 }
 
-/// `system/controlDict`: enough for the meshing utilities.
-pub fn control_dict() -> String {
-    header("dictionary", "controlDict")
-        + "application     snappyHexMesh;\nstartFrom       startTime;\nstartTime       0;\nstopAt          endTime;\n\
-           endTime         1;\ndeltaT          1;\nwriteControl    timeStep;\nwriteInterval   1;\n\
-           writeFormat     binary;\nwritePrecision  8;\nwriteCompression off;\ntimeFormat      general;\n\
-           timePrecision   6;\nrunTimeModifiable false;\n"
+/// The fluid of the flow set-up: constant density and viscosity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fluid {
+    /// What it is, for the files and the summary.
+    pub name: &'static str,
+    /// Kinematic viscosity ν (m²/s).
+    pub nu: Real,
+    /// Density ρ (kg/m³); simpleFoam solves for p / ρ, so it only converts the pressure to Pa.
+    pub rho: Real,
+}
+
+/// Liquid water at 20 °C and 1 atm: μ = 1.0016 mPa s, ρ = 998.2 kg/m³ (IAPWS), ν = μ / ρ.
+pub const WATER_20C: Fluid = Fluid { name: "water at 20 °C", nu: 1.0034e-6, rho: 998.2 };
+
+/// The largest particle Reynolds number the laminar set-up accepts. Flow through packed
+/// spheres is steady up to Re_p of about 100 and becomes unsteady between about 110 and 300
+/// (the range the literature reports); above 300 a steady laminar solution is not the flow.
+pub const MAX_REYNOLDS: Real = 300.0;
+
+/// A steady incompressible laminar flow along +z through the bed, for simpleFoam.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Flow {
+    /// The fluid.
+    pub fluid: Fluid,
+    /// Particle Reynolds number Re_p = ρ u_s dp / μ = u_s dp / ν.
+    pub reynolds: Real,
+    /// The pellets' volume-equivalent diameter dp (m).
+    pub dp: Real,
+    /// The packed section (m), from the floor to one pellet size below the bed's top: the
+    /// pressure is averaged on these two planes.
+    pub packed: (Real, Real),
+}
+
+impl Flow {
+    /// The superficial velocity u_s = Re_p ν / dp (m/s), the uniform inlet velocity.
+    pub fn velocity(&self) -> Real {
+        self.reynolds * self.fluid.nu / self.dp
+    }
+
+    /// Ergun's pressure drop per unit length (Pa/m) at porosity `eps`:
+    /// 150 μ u_s (1 − ε)² / (ε³ dp²) + 1.75 ρ u_s² (1 − ε) / (ε³ dp).
+    pub fn ergun(&self, eps: Real) -> Real {
+        let (u, mu, rho, dp) = (self.velocity(), self.fluid.nu * self.fluid.rho, self.fluid.rho, self.dp);
+        150.0 * mu * u * (1.0 - eps).powi(2) / (eps.powi(3) * dp * dp)
+            + 1.75 * rho * u * u * (1.0 - eps) / (eps.powi(3) * dp)
+    }
+}
+
+/// Iterations simpleFoam runs at most (it stops earlier when the residuals fall below the
+/// controls in fvSolution).
+pub const MAX_ITERATIONS: usize = 2000;
+
+/// `system/controlDict`: simpleFoam, one time step per iteration, the fields written at the
+/// end, and surfaceFieldValue function objects that log the area-averaged kinematic pressure
+/// p / ρ (m²/s²) on the inlet and outlet patches and on the planes across the tube at the
+/// floor (`bedBottom`) and at the bed top (`bedTop`), and the volumetric flow rate through
+/// the outlet (m³/s). The meshing utilities read the same file and ignore all of it.
+pub fn control_dict(flow: &Flow) -> String {
+    let mut s = header("dictionary", "controlDict")
+        + &format!(
+            "application     simpleFoam;\nstartFrom       latestTime;\nstartTime       0;\nstopAt          endTime;\n\
+           endTime         {MAX_ITERATIONS};\ndeltaT          1;\nwriteControl    timeStep;\nwriteInterval   {MAX_ITERATIONS};\n\
+           purgeWrite      0;\nwriteFormat     binary;\nwritePrecision  8;\nwriteCompression off;\ntimeFormat      general;\n\
+           timePrecision   6;\nrunTimeModifiable false;\n\n\
+           // Pressure on the inlet, the outlet and the two ends of the packed section: kinematic\n\
+           // (p / rho, m2/s2), area-averaged, logged every iteration to postProcessing/NAME/0/.\n\
+           functions\n{{\n"
+        );
+    for (name, patch) in [("inlet", "inlet"), ("outlet", "outlet")] {
+        let _ = writeln!(
+            s,
+            "    {name}\n    {{\n        type            surfaceFieldValue;\n        libs            (\"libfieldFunctionObjects.so\");\n\
+             \x20       writeControl    timeStep;\n        writeInterval   1;\n        log             false;\n        writeFields     false;\n\
+             \x20       regionType      patch;\n        name            {patch};\n        operation       areaAverage;\n        fields          (p);\n    }}"
+        );
+    }
+    for (name, z) in [("bedBottom", flow.packed.0), ("bedTop", flow.packed.1)] {
+        let _ = writeln!(
+            s,
+            "    {name}\n    {{\n        type            surfaceFieldValue;\n        libs            (\"libfieldFunctionObjects.so\");\n\
+             \x20       writeControl    timeStep;\n        writeInterval   1;\n        log             false;\n        writeFields     false;\n\
+             \x20       regionType      sampledSurface;\n        name            {name};\n        sampledSurfaceDict\n        {{\n\
+             \x20           type        plane;\n            planeType   pointAndNormal;\n\
+             \x20           pointAndNormalDict {{ point (0 0 {z:.9e}); normal (0 0 1); }}\n\
+             \x20           interpolate false;\n        }}\n        operation       areaAverage;\n        fields          (p);\n    }}"
+        );
+    }
+    s + "    flowRate\n    {\n        type            surfaceFieldValue;\n        libs            (\"libfieldFunctionObjects.so\");\n\
+        \x20       writeControl    timeStep;\n        writeInterval   1;\n        log             false;\n        writeFields     false;\n\
+        \x20       regionType      patch;\n        name            outlet;\n        operation       sum;\n        fields          (phi);\n    }\n}\n"
 }
 
 /// `system/blockMeshDict`: a box just around the tube, cubic cells of twice the cell size.
@@ -220,34 +307,124 @@ pub fn mesh_quality_dict() -> String {
            relaxed\n{\n    maxNonOrtho 75;\n}\n"
 }
 
-/// `system/fvSchemes` and `system/fvSolution`: empty, as the meshing utilities need them to exist.
-pub fn fv_schemes() -> String {
-    header("dictionary", "fvSchemes")
-        + "ddtSchemes {}\ngradSchemes {}\ndivSchemes {}\nlaplacianSchemes {}\ninterpolationSchemes {}\nsnGradSchemes {}\n"
+/// `constant/transportProperties`: a Newtonian fluid of viscosity ν.
+pub fn transport_properties(flow: &Flow) -> String {
+    header("dictionary", "transportProperties")
+        + &format!(
+            "// {}: nu = {:e} m2/s (rho = {} kg/m3, not read by simpleFoam: p is p / rho).\n\
+             transportModel  Newtonian;\n\nnu              [0 2 -1 0 0 0 0] {:e};\n",
+            flow.fluid.name, flow.fluid.nu, flow.fluid.rho, flow.fluid.nu
+        )
 }
 
-/// See [`fv_schemes`].
+/// `constant/turbulenceProperties`: laminar.
+pub fn turbulence_properties() -> String {
+    header("dictionary", "turbulenceProperties") + "simulationType  laminar;\n"
+}
+
+/// `0/U` (m/s): u_s along +z at the inlet, zero gradient at the outlet, no slip on the tube
+/// wall and the pellets.
+pub fn field_u(flow: &Flow) -> String {
+    header("volVectorField", "U")
+        + &format!(
+            "// Superficial velocity u_s = Re_p nu / dp = {} x {:e} / {:e} = {:e} m/s along +z.\n\
+             dimensions      [0 1 -1 0 0 0 0];\n\ninternalField   uniform (0 0 0);\n\n\
+             boundaryField\n{{\n    inlet\n    {{\n        type            fixedValue;\n        value           uniform (0 0 {:.9e});\n    }}\n\
+             \x20   outlet\n    {{\n        type            zeroGradient;\n    }}\n\
+             \x20   wall\n    {{\n        type            noSlip;\n    }}\n\
+             \x20   pellets\n    {{\n        type            noSlip;\n    }}\n}}\n",
+            flow.reynolds,
+            flow.fluid.nu,
+            flow.dp,
+            flow.velocity(),
+            flow.velocity()
+        )
+}
+
+/// `0/p`, kinematic pressure p / ρ (m²/s²): 0 at the outlet, zero gradient elsewhere.
+pub fn field_p() -> String {
+    header("volScalarField", "p")
+        + "// Kinematic pressure p / rho (m2/s2), 0 at the outlet.\n\
+           dimensions      [0 2 -2 0 0 0 0];\n\ninternalField   uniform 0;\n\n\
+           boundaryField\n{\n    inlet\n    {\n        type            zeroGradient;\n    }\n\
+           \x20   outlet\n    {\n        type            fixedValue;\n        value           uniform 0;\n    }\n\
+           \x20   wall\n    {\n        type            zeroGradient;\n    }\n\
+           \x20   pellets\n    {\n        type            zeroGradient;\n    }\n}\n"
+}
+
+/// `system/fvSchemes`: steady, second order (bounded linear upwind for convection, limited
+/// gradients and non-orthogonal corrections for snappyHexMesh's cells).
+pub fn fv_schemes() -> String {
+    header("dictionary", "fvSchemes")
+        + "ddtSchemes\n{\n    default         steadyState;\n}\n\n\
+           gradSchemes\n{\n    default         Gauss linear;\n    grad(U)         cellLimited Gauss linear 1;\n}\n\n\
+           divSchemes\n{\n    default         none;\n    div(phi,U)      bounded Gauss linearUpwind grad(U);\n\
+           \x20   div((nuEff*dev2(T(grad(U))))) Gauss linear;\n}\n\n\
+           laplacianSchemes\n{\n    default         Gauss linear limited corrected 0.5;\n}\n\n\
+           interpolationSchemes\n{\n    default         linear;\n}\n\n\
+           snGradSchemes\n{\n    default         limited corrected 0.5;\n}\n"
+}
+
+/// `system/fvSolution`: SIMPLEC (`consistent yes`) with GAMG for p, stopping when the initial
+/// residuals fall below 1e-4 (p) and 1e-5 (U); U under-relaxed by 0.9, p not (SIMPLEC needs none).
 pub fn fv_solution() -> String {
     header("dictionary", "fvSolution")
+        + "solvers\n{\n    p\n    {\n        solver          GAMG;\n        smoother        GaussSeidel;\n\
+           \x20       tolerance       1e-8;\n        relTol          0.05;\n    }\n\n\
+           \x20   U\n    {\n        solver          smoothSolver;\n        smoother        symGaussSeidel;\n\
+           \x20       tolerance       1e-9;\n        relTol          0.1;\n    }\n}\n\n\
+           SIMPLE\n{\n    nNonOrthogonalCorrectors 0;\n    consistent      yes;\n\n\
+           \x20   residualControl\n    {\n        p               1e-4;\n        U               1e-5;\n    }\n}\n\n\
+           relaxationFactors\n{\n    equations\n    {\n        U               0.9;\n    }\n}\n"
 }
 
 /// The case's README: what is where and the commands.
-pub fn readme(g: &CaseGeometry, source: &str, treatment: &str) -> String {
+pub fn readme(g: &CaseGeometry, flow: &Flow, source: &str, treatment: &str) -> String {
+    let (f, u) = (flow.fluid, flow.velocity());
     format!(
         "OpenFOAM case of the packed bed {source}, written by packbed bedexport {}.\n\n\
 Tested with {TESTED_VERSION}.\n\
 All lengths are metres. The tube's inside runs from z = {:.6} m to z = {:.6} m (radius {:.6} m);\n\
 cells are {:.6} m at the pellets and twice that elsewhere. Contact treatment: {treatment}.\n\n\
-Mesh the fluid (from this directory):\n\n\
-    blockMesh\n    surfaceFeatureExtract\n    snappyHexMesh -overwrite\n\n\
+Mesh the fluid (from this directory):\n\n\x20   blockMesh\n    surfaceFeatureExtract\n    snappyHexMesh -overwrite\n\n\
 then `checkMesh` should end in \"Mesh OK\". Patches: inlet (bottom), outlet (top), wall (tube), pellets.\n\
 With Debian's openfoam package, set FOAM_INST_DIR=/usr/share/openfoam and\n\
-WM_PROJECT_DIR=/usr/share/openfoam in the environment first.\n",
+WM_PROJECT_DIR=/usr/share/openfoam in the environment first.\n\n\
+Flow: steady, incompressible, laminar, along +z, of {} (nu = {:e} m2/s, rho = {} kg/m3),\n\
+at the particle Reynolds number Re_p = rho u_s dp / mu = u_s dp / nu = {}, with dp = {:.6e} m the\n\
+pellets' volume-equivalent diameter and u_s the superficial velocity: u_s = Re_p nu / dp = {:.6e} m/s,\n\
+uniform on the inlet (0/U). p = 0 on the outlet; no slip on the wall and the pellets.\n\
+simpleFoam's p is the kinematic pressure p / rho in m2/s2: multiply by rho = {} kg/m3 for Pa.\n\n\
+Run it (after meshing):\n\n\x20   simpleFoam > log.simpleFoam\n\n\
+It stops when the initial residuals fall below the controls in system/fvSolution (p 1e-4, U 1e-5)\n\
+or after {MAX_ITERATIONS} iterations, and writes U and p to the last iteration's directory.\n\n\
+Pressure drop: the function objects in system/controlDict log, every iteration, the area-averaged\n\
+kinematic pressure on the inlet and outlet patches and on the planes z = {:.6} m (bedBottom,\n\
+the floor) and z = {:.6} m (bedTop: one pellet size below the bed's highest point, leaving\n\
+out the loose top layer, as voidprof's porosity does; the whole bed if under two sizes tall), in\n\
+postProcessing/NAME/0/surfaceFieldValue.dat (columns: iteration, areaAverage(p)), and the\n\
+outlet's flow rate in postProcessing/flowRate/0/surfaceFieldValue.dat (sum(phi), m3/s; the\n\
+inlet's is {:.6e} m3/s). The packed bed's pressure drop is\n\n\x20   dp_bed = rho * (p(bedBottom) - p(bedTop))   [Pa] over L = {:.6} m,\n\n\
+from the last lines of the two files; inlet minus outlet adds the empty tube below and above\n\
+the bed (developing flow, so not Hagen-Poiseuille's). Ergun's correlation for comparison:\n\
+dp/L = 150 mu u_s (1 - eps)^2 / (eps^3 dp^2) + 1.75 rho u_s^2 (1 - eps) / (eps^3 dp), eps the\n\
+porosity of the packed section (bedexport prints it and Ergun's value).\n",
         env!("CARGO_PKG_VERSION"),
         g.z0,
         g.z1,
         g.radius,
-        g.cell
+        g.cell,
+        f.name,
+        f.nu,
+        f.rho,
+        flow.reynolds,
+        flow.dp,
+        u,
+        f.rho,
+        flow.packed.0,
+        flow.packed.1,
+        u * std::f64::consts::PI * g.radius * g.radius,
+        flow.packed.1 - flow.packed.0,
     )
 }
 
@@ -274,5 +451,25 @@ mod tests {
         let g = CaseGeometry { radius: 0.01, z0: 0.0, z1: 0.04, cell: 0.001, location: p };
         assert!(block_mesh_dict(&g).contains("(11 11 21)"));
         assert!(snappy_hex_mesh_dict(&g).contains("locationInMesh ("));
+    }
+
+    #[test]
+    fn flow_velocity_ergun_and_files() {
+        let flow = Flow { fluid: WATER_20C, reynolds: 20.0, dp: 0.005, packed: (0.0, 0.03) };
+        // u_s = Re ν / dp.
+        assert!((flow.velocity() - 20.0 * 1.0034e-6 / 0.005).abs() < 1e-15);
+        // Ergun by hand at ε = 0.4: μ = ν ρ, u = 4.0136e-3 m/s.
+        let (mu, u) = (1.0034e-6 * 998.2, flow.velocity());
+        let by_hand = 150.0 * mu * u * 0.36 / (0.064 * 25e-6) + 1.75 * 998.2 * u * u * 0.6 / (0.064 * 0.005);
+        assert!((flow.ergun(0.4) / by_hand - 1.0).abs() < 1e-12);
+        let u_file = field_u(&flow);
+        assert!(u_file.contains(&format!("value           uniform (0 0 {:.9e});", flow.velocity())), "{u_file}");
+        for patch in ["inlet", "outlet", "wall", "pellets"] {
+            assert!(u_file.contains(&format!("    {patch}\n")) && field_p().contains(&format!("    {patch}\n")));
+        }
+        assert!(transport_properties(&flow).contains("nu              [0 2 -1 0 0 0 0] 1.0034e-6;"));
+        let control = control_dict(&flow);
+        assert!(control.contains("application     simpleFoam;") && control.contains("point (0 0 3.000000000e-2)"));
+        assert_eq!(control.matches("type            surfaceFieldValue;").count(), 5);
     }
 }

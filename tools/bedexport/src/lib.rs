@@ -24,6 +24,7 @@ const EXAMPLES: &str = "\
 Examples:
   bedexport bed.packing --stl bed.stl --tube-stl tube.stl
   bedexport bed.packing --openfoam case --cell-size 1 --inlet 10 --outlet 10 --treatment caps
+  bedexport bed.packing --openfoam case --reynolds 50    # water at 20 °C, u_s = 50 ν / dp
   bedexport bed.packing --stl bed.stl --shrink 0.99 --units m
   bedexport bed.packing --stl bed.stl --ascii --solids per-pellet --bridge-gap 0.1 --bridge-diameter 2
   bedexport bed.packing --vtk bed.vtp --vtk-centres centres.vtp --csv poses.csv
@@ -31,7 +32,8 @@ Examples:
   bedexport bed.packing --stl slab.stl --tube-stl tube.stl --window 20,60    # pellets cut and capped
   settle-check run.mcap -o - | bedexport - --stl bed.stl
 
-Lengths in flags are in mm; files are in --units (mm by default). The raw
+Lengths in flags are in mm; files are in --units (mm by default); an OpenFOAM
+case is in SI units (m, m/s, kinematic pressure p/ρ in m²/s², ν in m²/s). The raw
 voxel file is uint8 (0 fluid, 1 pellet, 2 outside the tube), x fastest,
 then y, then z; its header is FILE.json. Exit codes: 0 success, 2 error.";
 
@@ -155,6 +157,11 @@ pub struct Args {
     /// With --openfoam: the contact treatment, sized to two cells unless --cap-gap, --bridge-gap or --shrink is given [default: caps].
     #[arg(long, value_enum, requires = "openfoam")]
     pub treatment: Option<CaseTreatment>,
+    /// With --openfoam: the particle Reynolds number Re_p = ρ u_s dp / μ of the steady laminar
+    /// flow set up along +z (water at 20 °C, ν = 1.0034e-6 m²/s; u_s the superficial velocity,
+    /// dp the pellets' volume-equivalent diameter), above 0 and at most 300 [default: 10].
+    #[arg(long, value_name = "RE", requires = "openfoam")]
+    pub reynolds: Option<f64>,
     /// Print nothing but errors: no progress on stderr, no summary.
     #[arg(short, long)]
     pub quiet: bool,
@@ -235,8 +242,8 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         if bed.pellets.is_empty() {
             bail!("{}: the bed holds no pellets", args.packing);
         }
-        let (dp, _) = reference_diameters(&bed).with_context(|| args.packing.clone())?;
-        return openfoam::run(&args, dir, &bed, dp);
+        let (dp, dpv) = reference_diameters(&bed).with_context(|| args.packing.clone())?;
+        return openfoam::run(&args, dir, &bed, dp, dpv);
     }
     if paths.is_empty() {
         bail!(

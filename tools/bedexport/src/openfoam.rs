@@ -8,15 +8,18 @@ use std::path::Path;
 use anyhow::{bail, Context};
 use clap::ValueEnum;
 
-use pellet_analysis::bed_top;
+use pellet_analysis::{bed_top, bulk_porosity, Geometry};
 use pellet_cli::{mm_in_range, Outcome};
-use pellet_export::openfoam::{self, CaseGeometry};
+use pellet_export::openfoam::{self, CaseGeometry, Flow, MAX_REYNOLDS, WATER_20C};
 use pellet_export::scene::{enclosed_volume, tube_mesh};
 use pellet_export::treatment::{self, Treatment};
 use pellet_export::unite::unite;
 use pellet_geom::{Bed, TriMesh};
 
 use crate::{Args, MM};
+
+/// `--reynolds` when not given: creeping-to-inertial laminar flow, steady for simpleFoam.
+const DEFAULT_REYNOLDS: f64 = 10.0;
 
 /// The contact treatment of an OpenFOAM case.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -32,11 +35,13 @@ pub enum CaseTreatment {
 }
 
 /// Writes the case directory `dir` (never a partial one under its name).
-pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome> {
+/// `dp` is the pellets' nominal size, `dpv` their volume-equivalent diameter (the Reynolds number's).
+pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64, dpv: f64) -> anyhow::Result<Outcome> {
     let target = Path::new(dir);
     if target.exists() {
         bail!("{dir} already exists; give --openfoam a new directory");
     }
+    let reynolds = reynolds(args.reynolds)?;
     let mm = |flag: &str, v: Option<f64>| crate::treatment_length(flag, v, dp);
     let radius = 0.5 * bed.tube.diameter;
     // Cells from dp / 50 (about 10⁷ background cells for a tube of N = 4 and 3 dp high; finer
@@ -141,17 +146,34 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
     let seconds = started.elapsed().as_secs_f64();
     let solid = united.volume_in_tube(&tube)?;
     let treatment_name = format!("{chosen:?}").to_lowercase();
+    // The packed section is voidprof's default window: the floor to one dp below the bed's top,
+    // leaving out the loose top layer the flow goes round (the whole bed when under 2 dp tall).
+    let (packed_top, rule) = if top >= 2.0 * dp {
+        (top - dp, format!("the bed's top {:.3} mm minus dp, as voidprof", top / MM))
+    } else {
+        (top, "the bed's top; the bed is under 2 dp tall".to_string())
+    };
+    let flow = Flow { fluid: WATER_20C, reynolds, dp: dpv, packed: (0.0, packed_top) };
+    // Its porosity as exported (the united solid in the tube polygon) and of the bed as it is
+    // (exact, as voidprof).
+    let section = tube_mesh(radius, 0.0, packed_top, args.tube_segments);
+    let exported_porosity = 1.0 - united.volume_in_tube(&section)? / enclosed_volume(&section);
+    let bed_porosity = bulk_porosity(bed, (0.0, packed_top), Geometry::Auto).map(|b| b.porosity).ok();
     let files: Vec<(&str, Vec<u8>)> = vec![
+        ("0/U", openfoam::field_u(&flow).into_bytes()),
+        ("0/p", openfoam::field_p().into_bytes()),
+        ("constant/transportProperties", openfoam::transport_properties(&flow).into_bytes()),
+        ("constant/turbulenceProperties", openfoam::turbulence_properties().into_bytes()),
         ("constant/triSurface/pellets.stl", pellet_export::stl::ascii(&[("pellets".into(), merged)], 1.0)),
         ("constant/triSurface/tube.stl", openfoam::tube_stl(radius, z0, z1, args.tube_segments)),
-        ("system/controlDict", openfoam::control_dict().into_bytes()),
+        ("system/controlDict", openfoam::control_dict(&flow).into_bytes()),
         ("system/blockMeshDict", openfoam::block_mesh_dict(&g).into_bytes()),
         ("system/surfaceFeatureExtractDict", openfoam::surface_feature_extract_dict().into_bytes()),
         ("system/snappyHexMeshDict", openfoam::snappy_hex_mesh_dict(&g).into_bytes()),
         ("system/meshQualityDict", openfoam::mesh_quality_dict().into_bytes()),
         ("system/fvSchemes", openfoam::fv_schemes().into_bytes()),
         ("system/fvSolution", openfoam::fv_solution().into_bytes()),
-        ("README", openfoam::readme(&g, &args.packing, &treatment_name).into_bytes()),
+        ("README", openfoam::readme(&g, &flow, &args.packing, &treatment_name).into_bytes()),
     ];
     write_case(target, &files).with_context(|| format!("--openfoam {dir}"))?;
     if args.quiet {
@@ -198,8 +220,40 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64) -> anyhow::Result<Outcome
         tube_volume,
         solid
     );
+    let _ = writeln!(
+        s,
+        "packed section: z 0.000 to {:.3} mm ({rule}), porosity {exported_porosity:.5} as exported{}",
+        packed_top / MM,
+        bed_porosity.map_or(String::new(), |e| format!(" ({e:.5} before the contact treatment, as voidprof)"))
+    );
+    let _ = writeln!(
+        s,
+        "flow: {} (nu {:e} m2/s, rho {} kg/m3), Re_p {reynolds} on dp {:.4} mm (volume-equivalent): u_s {:.6e} m/s along +z",
+        flow.fluid.name,
+        flow.fluid.nu,
+        flow.fluid.rho,
+        dpv / MM,
+        flow.velocity()
+    );
+    let _ = writeln!(
+        s,
+        "Ergun at porosity {exported_porosity:.5}: dp/L {:.6e} Pa/m, {:.6e} Pa over the packed section",
+        flow.ergun(exported_porosity),
+        flow.ergun(exported_porosity) * packed_top
+    );
     pellet_cli::print_stdout(&s)?;
     Ok(Outcome::Success)
+}
+
+/// `--reynolds`, checked: finite, above 0, at most [`MAX_REYNOLDS`] (steady laminar flow).
+fn reynolds(value: Option<f64>) -> anyhow::Result<f64> {
+    let Some(re) = value else { return Ok(DEFAULT_REYNOLDS) };
+    if !(re.is_finite() && re > 0.0 && re <= MAX_REYNOLDS) {
+        bail!(
+            "--reynolds must be above 0 and at most {MAX_REYNOLDS} (Re_p = rho u_s dp / mu; above {MAX_REYNOLDS} packed-bed flow is not steady and laminar) (got {re})"
+        );
+    }
+    Ok(re)
 }
 
 /// Writes `files` under a hidden sibling of `target`, then renames it to `target`.

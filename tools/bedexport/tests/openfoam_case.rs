@@ -72,3 +72,60 @@ fn the_case_holds_every_file_with_named_tube_regions_and_refuses_bad_flags() {
     }
     assert!(!dir.path().join("c2").exists());
 }
+
+/// The flow files: u_s = Re_p ν / dp on the inlet (dp the volume-equivalent diameter), the
+/// laminar Newtonian set-up, and --reynolds refused outside (0, 300] with one line.
+#[test]
+fn the_case_sets_up_the_laminar_flow_from_the_reynolds_number() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution::default()).unwrap();
+    let dpv = sphere.properties.equivalent_diameter;
+    let bed = random_placement(&sphere, 30.0 * MM, 40.0 * MM, 6, 2);
+    let file = PackingFile {
+        length_unit: "m".into(),
+        provenance: Provenance { tool: "test".into(), version: "0".into(), args: vec![] },
+        time_s: 0.0,
+        verdict: None,
+        bed,
+    };
+    std::fs::write(dir.path().join("b.packing"), pellet_io::encode_packing(&file).unwrap()).unwrap();
+    let nu = pellet_export::openfoam::WATER_20C.nu;
+    for (extra, re) in [(None, 10.0), (Some("50"), 50.0), (Some("0.5"), 0.5)] {
+        let case = format!("case{re}");
+        let mut args = vec!["b.packing", "--openfoam", &case, "--cell-size", "2"];
+        if let Some(v) = extra {
+            args.extend(["--reynolds", v]);
+        }
+        let out = bedexport(dir.path(), &args);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+        let u = re * nu / dpv;
+        let read = |f: &str| std::fs::read_to_string(dir.path().join(&case).join(f)).unwrap();
+        let field = read("0/U");
+        let line = field.lines().find(|l| l.contains("value           uniform (0 0 ")).expect("an inlet velocity");
+        let written: f64 = line.split("(0 0 ").nth(1).unwrap().trim_end_matches(");").parse().unwrap();
+        assert!((written / u - 1.0).abs() < 1e-8, "{line}: expected {u}");
+        assert!(stdout.contains(&format!("u_s {u:.6e} m/s along +z")), "{stdout}");
+        for patch in ["inlet", "outlet", "wall", "pellets"] {
+            assert!(field.contains(&format!("    {patch}\n")) && read("0/p").contains(&format!("    {patch}\n")));
+        }
+        assert!(field.contains("type            noSlip;") && read("0/p").contains("uniform 0;"));
+        assert!(read("constant/transportProperties").contains("transportModel  Newtonian;"));
+        assert!(read("constant/turbulenceProperties").contains("simulationType  laminar;"));
+        assert!(read("system/fvSolution").contains("consistent      yes;"));
+        assert!(read("system/fvSchemes").contains("div(phi,U)"));
+        assert!(read("system/controlDict").contains("application     simpleFoam;"));
+        assert!(read("README").contains("simpleFoam > log.simpleFoam"));
+    }
+    for bad in ["0", "-1", "nan", "inf", "300.5", "1e9"] {
+        let out = bedexport(dir.path(), &["b.packing", "--openfoam", "bad", "--reynolds", bad]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad}: {err}");
+        assert!(err.starts_with("bedexport: error: --reynolds must be above 0 and at most 300"), "{bad}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{bad}: {err}");
+    }
+    assert!(!dir.path().join("bad").exists());
+    // --reynolds belongs to --openfoam.
+    let out = bedexport(dir.path(), &["b.packing", "--stl", "b.stl", "--reynolds", "10"]);
+    assert_eq!(out.status.code(), Some(2));
+}
