@@ -50,7 +50,8 @@ test-slurm: build
 
 # bedexport --openfoam meshed for real: a 20-sphere and a 20-cylinder bed through surfaceCheck
 # (pellets.stl closed, not self-intersecting), blockMesh, surfaceFeatureExtract, snappyHexMesh
-# and checkMesh (tests/openfoam/test.sh;
+# and checkMesh, then simpleFoam on the sphere bed, its pressure drop against Ergun's
+# (tests/openfoam/test.sh;
 # installs Debian's openfoam package when missing, fails when it cannot).
 test-openfoam: build
 	sh tests/openfoam/test.sh $(BIN)

@@ -7,7 +7,8 @@
 # and none), and blockMesh,
 # surfaceFeatureExtract, snappyHexMesh and checkMesh must give "Mesh OK",
 # one region, the patches inlet, outlet, wall and pellets, and a fluid
-# volume within 2 % of the tube minus the pellets. Fails (exit 1) when
+# volume within 2 % of the tube minus the pellets; then simpleFoam on the
+# sphere bed's case, its pressure drop against Ergun's (see flow_bed). Fails (exit 1) when
 # OpenFOAM cannot be installed: it never passes by skipping. KEEP=1 keeps the case.
 set -u
 [ $# -eq 1 ] || { echo "test-openfoam: error: usage: test.sh BIN" >&2; exit 2; }
@@ -82,5 +83,53 @@ mesh_bed() { # name, mkpellet arguments…
     say "$name: passed: Mesh OK, $cells cells, fluid volume $meshed m3 (expected $expected m3)"
     cd "$work" || exit 2
 }
+# flow_bed NAME: simpleFoam on NAME's meshed case (bedexport's default laminar set-up: water
+# at 20 °C, Re_p = u_s dp / nu = 10) must converge, carry the inlet's flow rate to the outlet
+# (within 1 %), and give a pressure drop per unit length over the packed section (the planes
+# bedBottom at the floor and bedTop one dp below the bed's top, as voidprof's porosity: the
+# empty inlet and outlet tube and the loose top layer are left out) within a factor of 3 of
+# Ergun's and a factor of 2 of Eisfeld & Schnitzlein's wall-corrected correlation, both at the
+# porosity of the packed section as exported. Why these bands: with D/dp = 3 the wall adds
+# friction in the viscous regime (Eisfeld & Schnitzlein, Chem. Eng. Sci. 56 (2001) 4321; Di
+# Felice & Gibilaro, Chem. Eng. Sci. 59 (2004) 3037), so at Re_p = 10 Eisfeld & Schnitzlein
+# predict about twice Ergun's drop; three layers of 20 spheres are far from a homogeneous bed,
+# and the mesh (dp/20 at the pellets, caps of two cells at the contacts) is coarse.
+flow_bed() {
+    name=$1
+    cd "$work/$name/case" || exit 2
+    t0=$(date +%s)
+    simpleFoam >log.simpleFoam 2>&1 || { tail -n 30 log.simpleFoam >&2; fail "$name: simpleFoam failed (log above)"; }
+    seconds=$(($(date +%s) - t0))
+    iterations=$(sed -n 's/^SIMPLE solution converged in \([0-9]*\) iterations/\1/p' log.simpleFoam)
+    [ -n "$iterations" ] || { tail -n 20 log.simpleFoam >&2; fail "$name: simpleFoam did not converge"; }
+    last() { tail -n 1 "postProcessing/$1/0/surfaceFieldValue.dat" | awk '{ print $2 }'; }
+    bottom=$(last bedBottom) top=$(last bedTop) inlet=$(last inlet) flow=$(last flowRate)
+    packed=$(sed -n 's/^packed section: z 0.000 to \([^ ]*\) mm.*, porosity \([^ ]*\) as exported.*/\1 \2/p' ../export.log)
+    fluid=$(sed -n 's/^flow: .*(nu \([^ ]*\) m2\/s, rho \([^ ]*\) kg\/m3), .* on dp \([^ ]*\) mm .*: u_s \([^ ]*\) m\/s.*/\1 \2 \3 \4/p' ../export.log)
+    [ -n "$packed" ] && [ -n "$fluid" ] || { cat ../export.log >&2; fail "$name: bedexport printed no packed section or flow"; }
+    radius=$(sed -n 's/.*(radius \([^ ]*\) m);/\1/p' README)
+    result=$(echo "$bottom $top $inlet $flow $packed $fluid $radius" | awk '{
+        pb = $1; pt = $2; pin = $3; q = $4; L = $5 * 1e-3; e = $6; nu = $7; rho = $8; dp = $9 * 1e-3; u = $10; R = $11
+        mu = nu * rho
+        measured = rho * (pb - pt) / L
+        ergun = 150 * mu * u * (1 - e)^2 / (e^3 * dp^2) + 1.75 * rho * u^2 * (1 - e) / (e^3 * dp)
+        # Eisfeld & Schnitzlein (2001), spheres: K1 = 154, k1 = 1.15, k2 = 0.87.
+        aw = 1 + 2 / (3 * (2 * R / dp) * (1 - e)); bw = (1.15 * (dp / (2 * R))^2 + 0.87)^2
+        es = 154 * aw^2 * mu * u * (1 - e)^2 / (e^3 * dp^2) + aw / bw * rho * u^2 * (1 - e) / (e^3 * dp)
+        qin = u * 3.14159265358979 * R * R
+        printf "%.4g %.4g %.4g %.3f %.3f %.4f %.4g %.4g %.4f", measured, ergun, es, measured / ergun, measured / es, q / qin, rho * pin, rho * (pb - pt), e
+    }')
+    set -- $result
+    cells=$(sed -n 's/^ *cells: *\([0-9]*\)/\1/p' log.checkMesh | head -n 1)
+    say "$name: simpleFoam: $cells cells, converged in $iterations iterations, $seconds s"
+    say "$name: packed section: porosity $9, dp/L $1 Pa/m measured ($8 Pa; inlet to outlet $7 Pa); Ergun $2 Pa/m, Eisfeld-Schnitzlein $3 Pa/m"
+    say "$name: measured / Ergun = $4, measured / Eisfeld-Schnitzlein = $5, outlet / inlet flow rate = $6"
+    awk -v r="$6" 'BEGIN { exit !(r > 0.99 && r < 1.01) }' || fail "$name: the outlet carries $6 of the inlet's flow rate (not within 1 %)"
+    awk -v r="$4" 'BEGIN { exit !(r > 1 / 3 && r < 3) }' || fail "$name: measured / Ergun = $4 is outside (1/3, 3)"
+    awk -v r="$5" 'BEGIN { exit !(r > 0.5 && r < 2) }' || fail "$name: measured / Eisfeld-Schnitzlein = $5 is outside (0.5, 2)"
+    say "$name: flow passed"
+    cd "$work" || exit 2
+}
 mesh_bed spheres sphere --diameter 10
+flow_bed spheres
 mesh_bed cylinders cylinder --diameter 10 --height 10
