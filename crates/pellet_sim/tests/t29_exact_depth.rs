@@ -1,9 +1,9 @@
 //! Pairs placed at a known interpenetration: the narrow phase's deepest contact is the
 //! analytic depth to 1 µm, wherever the contact falls between the pellets' surface samples.
 
-use pellet_sim::geometry::narrow_phase::{collide_pair, Pellet};
+use pellet_sim::geometry::narrow_phase::{collide_pair, collide_wall, Pellet};
 use pellet_sim::geometry::samples::TypeGeometry;
-use pellet_sim::{Body, BodyType, Quat, Real, ShapeDesc, TypeId, Vec3};
+use pellet_sim::{Body, BodyType, Container, Quat, Real, ShapeDesc, TypeId, Vec3, WallId};
 use std::f64::consts::FRAC_PI_2;
 
 /// 10 × 10 mm cylinders.
@@ -102,5 +102,69 @@ fn side_on_cap() {
             lying(angle, roll),
         );
         check(&format!("side on cap, axis at {angle:.2} rad"), got, -DEPTH);
+    }
+}
+
+/// The tube wall's contacts of `c` at (x, q), as (gap, world point).
+fn tube_contacts(c: &BodyType, tube: &Container, x: Vec3, q: Quat) -> Vec<(Real, Vec3)> {
+    let g = TypeGeometry::new(c);
+    let b = body(c, x, q);
+    let p = Pellet { index: 0, body: &b, shape: &c.shape, geom: &g };
+    let mut out = Vec::new();
+    collide_wall(tube, WallId::Tube, p, 1e-4, &mut out).unwrap();
+    out.iter().map(|k| (k.gap, k.point)).collect()
+}
+
+/// The local minima of the tube gap along each rim of `c` at (x, q), sampled every 1e-5 rad
+/// (an independent, brute-force answer), within 1e-4 m.
+fn rim_minima(tube_radius: Real, x: Vec3, q: Quat) -> Vec<Real> {
+    let n = 628_319;
+    let mut minima = Vec::new();
+    for z in [-H, H] {
+        let gap = |k: usize| {
+            let t = std::f64::consts::TAU * k as Real / n as Real;
+            let p = x + q * Vec3::new(R * t.cos(), R * t.sin(), z);
+            tube_radius - (p.x * p.x + p.y * p.y).sqrt()
+        };
+        for k in 0..n {
+            let (g0, gp, gn) = (gap(k), gap((k + n - 1) % n), gap((k + 1) % n));
+            if g0 < gp && g0 <= gn && g0 <= 1e-4 {
+                minima.push(g0);
+            }
+        }
+    }
+    minima.sort_by(Real::total_cmp);
+    minima
+}
+
+/// A cylinder with its cap facing the tube wall touches it at two rim points, left and right
+/// of the cap's centre (the wall does not curve along its axis): both are contacts, each at its
+/// depth, square to the wall and turned and tilted a little.
+#[test]
+fn cap_facing_the_tube_wall() {
+    let c = cylinder();
+    let d = 0.04;
+    let tube = Container::tube(d).unwrap();
+    let rt = 0.5 * d;
+    // Axis radial along x: the rim points (±R along y) lie at ρ² = (c + H)² + R².
+    let centre = ((rt + DEPTH).powi(2) - R * R).sqrt() - H;
+    for (turn, tilt) in [(0.0, 0.0), (0.02, 0.0), (0.01, 0.3)] {
+        let q = Quat::from_axis_angle(&Vec3::z_axis(), turn)
+            * Quat::from_axis_angle(&Vec3::y_axis(), FRAC_PI_2)
+            * Quat::from_axis_angle(&Vec3::z_axis(), tilt);
+        let x = Vec3::new(centre, 0.0, 0.03);
+        let mut got: Vec<Real> = tube_contacts(&c, &tube, x, q).iter().map(|k| k.0).collect();
+        got.sort_by(Real::total_cmp);
+        let want = rim_minima(rt, x, q);
+        println!("turn {turn}, tilt {tilt}: contacts {got:?}, sampled minima {want:?}");
+        assert_eq!(got.len(), want.len(), "turn {turn}: one contact per point nearest the wall");
+        assert_eq!(got.len(), 2, "turn {turn}: the cap's two rim points");
+        for (g, w) in got.iter().zip(&want) {
+            check(&format!("cap facing the tube, turned {turn} rad"), *g, *w);
+        }
+        if turn == 0.0 {
+            check("cap facing the tube, square", got[0], -DEPTH);
+            check("cap facing the tube, square", got[1], -DEPTH);
+        }
     }
 }
