@@ -6,8 +6,11 @@
 //! clamped at zero, then the tangential pair from its own 2×2 block and projected onto the
 //! disk (the exact circular cone, not a facetted one; the projection of a 2×2 step that is not
 //! isotropic slides a contact slightly off the direction opposite its slip, by the block's
-//! anisotropy, which is zero for spheres and walls). Bodies' velocities live in flat arrays
-//! for the sweeps; the answer is deterministic (contacts in their given order).
+//! anisotropy, which is zero for spheres and walls). A point contact that stands for a small
+//! patch also resists the relative turning of its bodies, as a patch does (`docs/engine.md`,
+//! "Point contacts as small patches"): a spin row bounded by the Coulomb torque of the patch
+//! and a rolling pair bounded by the normal force at the patch's rim. Bodies' velocities live
+//! in flat arrays for the sweeps; the answer is deterministic (contacts in their given order).
 
 use crate::body::Body;
 use crate::geometry::contact::Contact;
@@ -24,8 +27,46 @@ pub struct NormalTarget {
     pub min_speed: Real,
     /// Coulomb coefficient of the contact.
     pub mu: Real,
+    /// Radius of the patch a point contact stands for, m (0: none, the contact is one of a
+    /// patch's points and the points resist turning by their spread).
+    pub patch: Real,
 }
 
+/// Where a solve starts from: a contact's impulses of the last step (N·s).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WarmStart {
+    /// Normal impulse.
+    pub normal: Real,
+    /// Friction impulse on body A, world frame.
+    pub friction: Vec3,
+    /// Angular impulse of a patch on body A, world frame, N·m·s.
+    pub torque: Vec3,
+}
+
+/// Hertz's full-slip torque of a circular patch, M = (3π/16) μ a P (Johnson, Contact
+/// Mechanics, §7.4), as the factor of μ a P.
+const SPIN_FACTOR: Real = 3.0 * std::f64::consts::PI / 16.0;
+
+/// A point contact's turning rows: spin about the normal, rolling about the two tangents,
+/// on the relative angular velocity ω_A − ω_B.
+#[derive(Debug, Clone)]
+struct PatchBlock {
+    /// I_A⁻¹ d and I_B⁻¹ d for the normal and the two tangents.
+    wa: [Vec3; 3],
+    wb: [Vec3; 3],
+    /// 1 / K_ss of the spin row.
+    inv_kss: Real,
+    k_ss: Real,
+    /// Inverse of the rolling 2×2 block, and its trace.
+    kr_inv: [[Real; 2]; 2],
+    kr_trace: Real,
+    /// Spin bound and rolling bound per unit normal impulse, m.
+    spin: Real,
+    roll: Real,
+    /// The contact point's largest distance from the bodies' centres: a change of the
+    /// relative angular velocity moves the bodies' surfaces by up to this lever, m.
+    reach: Real,
+}
 /// One contact's rows, with their M⁻¹Jᵀ blocks (B's with its sign applied).
 #[derive(Debug, Clone)]
 struct Block {
@@ -61,6 +102,9 @@ pub struct ImpulseSolution {
     pub normal: Vec<Real>,
     /// Friction impulse on body A per contact, world frame, N·s.
     pub friction: Vec<Vec3>,
+    /// Angular impulse of each point contact's patch on body A, world frame, N·m·s (zero
+    /// for other contacts).
+    pub torque: Vec<Vec3>,
     /// Relative velocity per contact before the impulses (the free velocity), m/s.
     pub relative_before: Vec<Vec3>,
     /// Relative velocity per contact after the step, m/s.
@@ -183,24 +227,132 @@ impl Block {
     }
 }
 
+impl PatchBlock {
+    fn new(c: &Contact, blk: &Block, st: &VelocityState, target: &NormalTarget) -> Option<Self> {
+        if target.patch <= 0.0 {
+            return None;
+        }
+        let ia = &st.inv_inertia[blk.a];
+        let wa = blk.dir.map(|d| ia * d);
+        let wb = match c.b_body() {
+            Some(j) => blk.dir.map(|d| st.inv_inertia[j] * d),
+            None => [Vec3::zeros(); 3],
+        };
+        let k = |i: usize, j: usize| blk.dir[i].dot(&(wa[j] + wb[j]));
+        let k_ss = k(0, 0);
+        let (k11, k12, k22) = (k(1, 1), k(1, 2), k(2, 2));
+        let det = k11 * k22 - k12 * k12;
+        let reach = c.lever_a.norm().max(if c.b_body().is_some() { c.lever_b.norm() } else { 0.0 });
+        Some(Self {
+            wa,
+            wb,
+            inv_kss: 1.0 / k_ss,
+            k_ss,
+            kr_inv: [[k22 / det, -k12 / det], [-k12 / det, k11 / det]],
+            kr_trace: k11 + k22,
+            spin: SPIN_FACTOR * target.mu * target.patch,
+            roll: target.patch,
+            reach,
+        })
+    }
+
+    /// Relative angular velocity ω_A − ω_B along row `i`.
+    #[inline]
+    fn turn(&self, blk: &Block, st: &VelocityState, i: usize) -> Real {
+        let mut w = blk.dir[i].dot(&st.w[blk.a]);
+        if blk.b != usize::MAX {
+            w -= blk.dir[i].dot(&st.w[blk.b]);
+        }
+        w
+    }
+
+    #[inline]
+    fn apply(&self, blk: &Block, st: &mut VelocityState, i: usize, dl: Real) {
+        st.w[blk.a] += self.wa[i] * dl;
+        if blk.b != usize::MAX {
+            st.w[blk.b] -= self.wb[i] * dl;
+        }
+    }
+
+    /// Clamps the impulses `l` (spin, then the rolling pair) to the bounds of normal impulse
+    /// `ln`.
+    fn clamp(&self, l: &mut [Real; 3], ln: Real) {
+        let spin = self.spin * ln;
+        l[0] = l[0].clamp(-spin, spin);
+        let roll = self.roll * ln;
+        let norm = (l[1] * l[1] + l[2] * l[2]).sqrt();
+        if norm > roll {
+            let s = if norm > 0.0 { roll / norm } else { 0.0 };
+            l[1] *= s;
+            l[2] *= s;
+        }
+    }
+
+    /// One Gauss–Seidel visit of the spin row and the rolling pair under the normal impulse
+    /// `ln`; returns the largest surface speed it changed, m/s.
+    fn visit(&self, blk: &Block, st: &mut VelocityState, l: &mut [Real; 3], ln: Real, negligible: Real) -> Real {
+        let mut dv: Real = 0.0;
+        let spin = self.spin * ln;
+        let s = (l[0] - self.turn(blk, st, 0) * self.inv_kss).clamp(-spin, spin);
+        let ds = s - l[0];
+        if ds.abs() * self.k_ss * self.reach > negligible {
+            self.apply(blk, st, 0, ds);
+            l[0] = s;
+            dv = ds.abs() * self.k_ss * self.reach;
+        }
+        let (w1, w2) = (self.turn(blk, st, 1), self.turn(blk, st, 2));
+        let old = [l[1], l[2]];
+        let mut r = [
+            old[0] - (self.kr_inv[0][0] * w1 + self.kr_inv[0][1] * w2),
+            old[1] - (self.kr_inv[1][0] * w1 + self.kr_inv[1][1] * w2),
+        ];
+        let roll = self.roll * ln;
+        let norm = (r[0] * r[0] + r[1] * r[1]).sqrt();
+        if norm > roll {
+            let s = if norm > 0.0 { roll / norm } else { 0.0 };
+            r = [r[0] * s, r[1] * s];
+        }
+        let d = [r[0] - old[0], r[1] - old[1]];
+        let dr = (d[0] * d[0] + d[1] * d[1]).sqrt() * self.kr_trace * self.reach;
+        if dr > negligible {
+            self.apply(blk, st, 1, d[0]);
+            self.apply(blk, st, 2, d[1]);
+            l[1] = r[0];
+            l[2] = r[1];
+            dv = dv.max(dr);
+        }
+        dv
+    }
+}
+
 /// Solves the step's contact problem from the free velocities in `st` (changed in place to
-/// the velocities after the step), starting from `warm` impulses (normal, friction vector on
-/// A). Stops once a sweep changes no relative velocity by more than `tolerance` (m/s), or
+/// the velocities after the step), starting from `warm` impulses. Stops once a sweep changes no relative velocity by more than `tolerance` (m/s), or
 /// after `max_sweeps`.
 pub fn solve_impulses(
     contacts: &[Contact],
     targets: &[NormalTarget],
-    warm: &[(Real, Vec3)],
+    warm: &[WarmStart],
     st: &mut VelocityState,
     tolerance: Real,
     max_sweeps: usize,
 ) -> ImpulseSolution {
     let blocks: Vec<Block> = contacts.iter().zip(targets).map(|(c, t)| Block::new(c, st, t)).collect();
+    let patches: Vec<Option<PatchBlock>> =
+        contacts.iter().zip(&blocks).zip(targets).map(|((c, b), t)| PatchBlock::new(c, b, st, t)).collect();
     let relative_before: Vec<Vec3> = contacts.iter().map(|c| st.relative(c)).collect();
     let mut ln: Vec<Real> = Vec::with_capacity(blocks.len());
     let mut lt: Vec<[Real; 2]> = Vec::with_capacity(blocks.len());
-    for (blk, &(n0, f0)) in blocks.iter().zip(warm) {
-        let n0 = n0.max(0.0);
+    let mut lw: Vec<[Real; 3]> = vec![[0.0; 3]; blocks.len()];
+    for (k, (blk, w)) in blocks.iter().zip(warm).enumerate() {
+        let (n0, f0) = (w.normal.max(0.0), w.friction);
+        if let Some(p) = &patches[k] {
+            let mut l = blk.dir.map(|d| d.dot(&w.torque));
+            p.clamp(&mut l, n0);
+            for (i, &li) in l.iter().enumerate() {
+                p.apply(blk, st, i, li);
+            }
+            lw[k] = l;
+        }
         let mut t = [f0.dot(&blk.dir[1]), f0.dot(&blk.dir[2])];
         let norm = (t[0] * t[0] + t[1] * t[1]).sqrt();
         if norm > blk.mu * n0 {
@@ -262,6 +414,9 @@ pub fn solve_impulses(
                 lt[k] = t;
                 dv = dv.max(dt);
             }
+            if let Some(p) = &patches[k] {
+                dv = dv.max(p.visit(blk, st, &mut lw[k], ln[k], negligible));
+            }
             quiet[k] = dv == 0.0;
             if !quiet[k] {
                 clock += 1;
@@ -280,6 +435,7 @@ pub fn solve_impulses(
         }
     }
     sol.friction = blocks.iter().zip(&lt).map(|(b, t)| b.dir[1] * t[0] + b.dir[2] * t[1]).collect();
+    sol.torque = blocks.iter().zip(&lw).map(|(b, l)| b.dir[0] * l[0] + b.dir[1] * l[1] + b.dir[2] * l[2]).collect();
     sol.normal = ln;
     sol.relative_after = contacts.iter().map(|c| st.relative(c)).collect();
     sol.relative_before = relative_before;
@@ -334,8 +490,8 @@ mod tests {
         let c = floor(0, 5e-3);
         let sol = solve_impulses(
             &[c],
-            &[NormalTarget { min_speed: 0.0, mu: 0.3 }],
-            &[(0.0, Vec3::zeros())],
+            &[NormalTarget { min_speed: 0.0, mu: 0.3, patch: 0.0 }],
+            &[WarmStart::default()],
             &mut st,
             1e-12,
             50,
@@ -353,14 +509,51 @@ mod tests {
         let b = sphere(5e-3, Vec3::new(0.0, 0.0, -1.0));
         let g = Vec3::zeros();
         let c = floor(0, 5e-3);
-        let t = [NormalTarget { min_speed: 0.5, mu: 0.0 }];
+        let t = [NormalTarget { min_speed: 0.5, mu: 0.0, patch: 0.0 }];
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, 1e-3);
-        let sol = solve_impulses(std::slice::from_ref(&c), &t, &[(0.0, Vec3::zeros())], &mut st, 1e-12, 50);
+        let sol = solve_impulses(std::slice::from_ref(&c), &t, &[WarmStart::default()], &mut st, 1e-12, 50);
         assert!((st.v[0].z - 0.5).abs() < 1e-12);
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, 1e-3);
-        let again = solve_impulses(&[c], &t, &[(sol.normal[0], Vec3::zeros())], &mut st, 1e-12, 50);
+        let warm = WarmStart { normal: sol.normal[0], ..WarmStart::default() };
+        let again = solve_impulses(&[c], &t, &[warm], &mut st, 1e-12, 50);
         assert_eq!(again.sweeps, 1);
         assert!((st.v[0].z - 0.5).abs() < 1e-12);
+    }
+
+    /// A ball spinning fast about the floor's normal on a patch of radius a: one step of h
+    /// takes Hertz's full-slip torque (3π/16) μ a λ_n off its spin, λ_n = m g h.
+    #[test]
+    fn a_patch_slows_a_spin_by_its_coulomb_torque() {
+        let mut b = sphere(5e-3, Vec3::zeros());
+        b.angular_momentum = Vec3::new(0.0, 0.0, 1e-8 * 50.0);
+        let (h, a, mu) = (1e-3, 1e-5, 0.3);
+        let g = Vec3::new(0.0, 0.0, -9.81);
+        let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
+        let t = [NormalTarget { min_speed: 0.0, mu, patch: a }];
+        let sol = solve_impulses(&[floor(0, 5e-3)], &t, &[WarmStart::default()], &mut st, 1e-12, 50);
+        let want = 50.0 - SPIN_FACTOR * mu * a * 1e-3 * 9.81 * h / 1e-8;
+        assert!((st.w[0].z - want).abs() < 1e-12, "{} against {want}", st.w[0].z);
+        assert!(sol.converged);
+    }
+
+    /// A ball rolling on the floor (μ large enough to hold it): the patch's rolling torque
+    /// a λ_n, with friction keeping the contact from slipping, takes a λ_n / (I + m r²) off
+    /// its rolling speed in a step.
+    #[test]
+    fn a_patch_slows_rolling_by_its_rim_torque() {
+        let (r, w0) = (5e-3, 1.0);
+        let mut b = sphere(r, Vec3::new(0.0, -w0 * r, 0.0));
+        b.angular_momentum = Vec3::new(1e-8 * w0, 0.0, 0.0);
+        let (h, a) = (1e-3, 1e-5);
+        let g = Vec3::new(0.0, 0.0, -9.81);
+        let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
+        let t = [NormalTarget { min_speed: 0.0, mu: 0.5, patch: a }];
+        let sol = solve_impulses(&[floor(0, r)], &t, &[WarmStart::default()], &mut st, 1e-14, 200);
+        let want = w0 - a * 1e-3 * 9.81 * h / (1e-8 + 1e-3 * r * r);
+        assert!(sol.converged);
+        assert!((st.w[0].x - want).abs() < 1e-9, "{} against {want}", st.w[0].x);
+        assert!((st.v[0].y + st.w[0].x * r).abs() < 1e-9, "the contact slips");
+        assert!((sol.torque[0].x + a * sol.normal[0]).abs() < 1e-18);
     }
 
     #[test]
