@@ -18,7 +18,7 @@ use crate::driver::{Ending, PackError};
 use crate::loading::FeederState;
 
 /// Version of the checkpoint layout. A reader accepts its own, version 2 (whose warm impulses
-/// lack the torques of point contacts' patches) and version 1 (written before the
+/// lack the torques of the contacts' patches) and version 1 (written before the
 /// velocity-level stepper, whose impulses and integrator ledger it lacks).
 pub const CHECKPOINT_VERSION: u32 = 3;
 

@@ -6,10 +6,10 @@
 //! clamped at zero, then the tangential pair from its own 2×2 block and projected onto the
 //! disk (the exact circular cone, not a facetted one; the projection of a 2×2 step that is not
 //! isotropic slides a contact slightly off the direction opposite its slip, by the block's
-//! anisotropy, which is zero for spheres and walls). A point contact that stands for a small
-//! patch also resists the relative turning of its bodies, as a patch does (`docs/engine.md`,
-//! "Point contacts as small patches"): a spin row bounded by the Coulomb torque of the patch
-//! and a rolling pair bounded by the normal force at the patch's rim. Bodies' velocities live
+//! anisotropy, which is zero for spheres and walls). A contact point stands for a small patch
+//! and resists the relative turning of its bodies as a patch does (`docs/engine.md`, "Contact
+//! points as small patches"): a spin row bounded by the patch's Coulomb torque and a rolling
+//! pair bounded by the normal force at the patch's rim. Bodies' velocities live
 //! in flat arrays for the sweeps; the answer is deterministic (contacts in their given order).
 
 use crate::body::Body;
@@ -27,8 +27,7 @@ pub struct NormalTarget {
     pub min_speed: Real,
     /// Coulomb coefficient of the contact.
     pub mu: Real,
-    /// Radius of the patch a point contact stands for, m (0: none, the contact is one of a
-    /// patch's points and the points resist turning by their spread).
+    /// Radius of the patch the contact point stands for, m (0: a point that turns freely).
     pub patch: Real,
 }
 
@@ -47,7 +46,7 @@ pub struct WarmStart {
 /// Mechanics, §7.4), as the factor of μ a P.
 const SPIN_FACTOR: Real = 3.0 * std::f64::consts::PI / 16.0;
 
-/// A point contact's turning rows: spin about the normal, rolling about the two tangents,
+/// A contact's turning rows, for the patch it stands for: spin about the normal, rolling about the two tangents,
 /// on the relative angular velocity ω_A − ω_B.
 #[derive(Debug, Clone)]
 struct PatchBlock {
@@ -102,8 +101,7 @@ pub struct ImpulseSolution {
     pub normal: Vec<Real>,
     /// Friction impulse on body A per contact, world frame, N·s.
     pub friction: Vec<Vec3>,
-    /// Angular impulse of each point contact's patch on body A, world frame, N·m·s (zero
-    /// for other contacts).
+    /// Angular impulse of each contact's patch on body A, world frame, N·m·s.
     pub torque: Vec<Vec3>,
     /// Relative velocity per contact before the impulses (the free velocity), m/s.
     pub relative_before: Vec<Vec3>,

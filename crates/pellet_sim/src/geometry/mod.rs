@@ -16,5 +16,3 @@ mod patch;
 pub mod sample_cache;
 pub mod samples;
 pub(crate) mod sdf;
-
-pub(crate) use patch::same_patch;

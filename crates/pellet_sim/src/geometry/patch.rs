@@ -18,11 +18,6 @@ use crate::math::{Real, Vec3};
 /// shared normal). Flat faces give normals equal to round-off: their patches are unchanged.
 const PATCH_COS: Real = 0.9998;
 
-/// Two normals close enough to share a patch.
-pub(crate) fn same_patch(a: &Vec3, b: &Vec3) -> bool {
-    a.dot(b) > PATCH_COS
-}
-
 /// An edge hit joins a patch if its normal is within ~2.6° of both bodies' normal cones.
 pub(crate) const WEDGE_COS: Real = 0.999;
 

@@ -19,7 +19,6 @@ use crate::dynamics::rows::relative_velocity_from;
 use crate::error::SimError;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
 use crate::geometry::narrow_phase::{collide_pair_kept, collide_wall};
-use crate::geometry::same_patch;
 use crate::math::{Real, Vec3};
 use crate::shape::ShapeDesc;
 
@@ -38,32 +37,23 @@ impl World {
         matches!(self.types[self.bodies[k].type_id.0 as usize].shape, ShapeDesc::Sphere { .. })
     }
 
-    /// The patch radius each contact stands for (m): `VelocityParams::patch_radius` of the
-    /// pellet size for a point contact, the only point of its patch, unless both sides are
-    /// round; 0 for the points of larger patches, whose spread resists turning, and between
-    /// spheres and walls, whose point contacts leave no mode that keeps a bed from rest
-    /// (`docs/engine.md`, "Point contacts as small patches").
-    fn point_patches(&self, contacts: &[Contact]) -> Vec<Real> {
+    /// The radius of the patch each contact point stands for (m): `VelocityParams::patch_radius`
+    /// of the pellet size, unless both sides are round (spheres and walls), whose contacts
+    /// leave no mode that keeps a bed from rest (`docs/engine.md`, "Contact points as small
+    /// patches").
+    fn patch_radii(&self, contacts: &[Contact]) -> Vec<Real> {
         let a = self.params.velocity.patch_radius * self.nominal_size();
-        let mut out = vec![0.0; contacts.len()];
-        if a <= 0.0 {
-            return out;
-        }
-        // The narrow phase emits a pair's contacts together.
-        let mut start = 0;
-        while start < contacts.len() {
-            let pair = (contacts[start].a, contacts[start].b);
-            let end = start + contacts[start..].iter().take_while(|c| (c.a, c.b) == pair).count();
-            let round = self.round(pair.0) && contacts[start].b_body().is_none_or(|b| self.round(b));
-            for k in start..end {
-                let alone = (start..end).all(|m| m == k || !same_patch(&contacts[m].normal, &contacts[k].normal));
-                if alone && !round {
-                    out[k] = a;
+        contacts
+            .iter()
+            .map(|c| {
+                let round = self.round(c.a) && c.b_body().is_none_or(|b| self.round(b));
+                if round {
+                    0.0
+                } else {
+                    a
                 }
-            }
-            start = end;
-        }
-        out
+            })
+            .collect()
     }
 
     /// Pairs and walls that may come within δ_c of each other over `horizon` (swept bounding
@@ -213,7 +203,7 @@ impl World {
             let omega0: Vec<Vec3> = self.bodies.iter().map(Body::angular_velocity).collect();
             let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity_from(c, &vel0, &omega0)).collect();
             let memory = remembered(&pipeline.impulses, &contacts);
-            let patches = self.point_patches(&contacts);
+            let patches = self.patch_radii(&contacts);
             let (mut colliding, mut resting) = (0u64, 0u64);
             let mut targets = Vec::with_capacity(contacts.len());
             let mut warm = Vec::with_capacity(contacts.len());

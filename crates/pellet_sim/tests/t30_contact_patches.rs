@@ -1,7 +1,7 @@
-//! A point contact stands for a small patch under the velocity-level stepper: a cylinder lying
+//! A contact point stands for a small patch under the velocity-level stepper: a cylinder lying
 //! across another, spinning about their one contact's normal, slows at the rate of the patch's
-//! Coulomb torque and comes to rest. With point contacts that turn freely, the spin is the
-//! rigid model's undamped mode and never ends (`docs/engine.md`, "Point contacts as small
+//! Coulomb torque and comes to rest. With contact points that turn freely, the spin is the
+//! rigid model's undamped mode and never ends (`docs/engine.md`, "Contact points as small
 //! patches").
 
 mod common;
@@ -47,7 +47,7 @@ fn crossed(patch_radius: f64, times: &[f64]) -> (Vec<f64>, f64) {
 /// line of two points, whose friction holds the reaction. At 1 s the two turn as one (a
 /// speed of their pair rolling on that line, a free mode of a cylinder on a floor, may remain).
 #[test]
-fn a_spin_on_a_point_contact_ends_at_the_patch_torque_rate() {
+fn a_spin_on_a_contact_point_ends_at_the_patch_torque_rate() {
     let a = VelocityParams::default().patch_radius * 2.0 * R;
     let i_over_m = (3.0 * R * R + 4.0 * H * H) / 12.0;
     let alpha = 3.0 * PI / 16.0 * MU * a * 9.81 / i_over_m;
@@ -64,7 +64,7 @@ fn a_spin_on_a_point_contact_ends_at_the_patch_torque_rate() {
 
 /// Without the patch the spin is the rigid model's free mode: nothing slows it.
 #[test]
-fn a_spin_on_a_free_point_contact_never_ends() {
+fn a_spin_on_a_free_contact_point_never_ends() {
     let (spins, _) = crossed(0.0, &[1.0]);
     println!("spin at 1 s without patches: {} rad/s", spins[0]);
     assert!((spins[0] - SPIN).abs() <= 1e-4 * SPIN, "spin at 1 s: {}", spins[0]);
