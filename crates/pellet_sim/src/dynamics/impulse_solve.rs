@@ -16,6 +16,9 @@ use crate::body::Body;
 use crate::geometry::contact::Contact;
 use crate::math::{Mat3, Real, Vec3};
 
+mod patch;
+use patch::PatchBlock;
+
 /// A block's update smaller than this fraction of the tolerance (m/s of relative velocity) is
 /// not applied, so that round-off does not keep its bodies "moving" for the skip test.
 const QUIET_FRACTION: Real = 1e-2;
@@ -42,30 +45,6 @@ pub struct WarmStart {
     pub torque: Vec3,
 }
 
-/// Hertz's full-slip torque of a circular patch, M = (3π/16) μ a P (Johnson, Contact
-/// Mechanics, §7.4), as the factor of μ a P.
-const SPIN_FACTOR: Real = 3.0 * std::f64::consts::PI / 16.0;
-
-/// A contact's turning rows, for the patch it stands for: spin about the normal, rolling about the two tangents,
-/// on the relative angular velocity ω_A − ω_B.
-#[derive(Debug, Clone)]
-struct PatchBlock {
-    /// I_A⁻¹ d and I_B⁻¹ d for the normal and the two tangents.
-    wa: [Vec3; 3],
-    wb: [Vec3; 3],
-    /// 1 / K_ss of the spin row.
-    inv_kss: Real,
-    k_ss: Real,
-    /// Inverse of the rolling 2×2 block, and its trace.
-    kr_inv: [[Real; 2]; 2],
-    kr_trace: Real,
-    /// Spin bound and rolling bound per unit normal impulse, m.
-    spin: Real,
-    roll: Real,
-    /// The contact point's largest distance from the bodies' centres: a change of the
-    /// relative angular velocity moves the bodies' surfaces by up to this lever, m.
-    reach: Real,
-}
 /// One contact's rows, with their M⁻¹Jᵀ blocks (B's with its sign applied).
 #[derive(Debug, Clone)]
 struct Block {
@@ -74,8 +53,9 @@ struct Block {
     b: usize,
     /// Normal, then the two tangents.
     dir: [Vec3; 3],
-    ang_a: [Vec3; 3],
-    ang_b: [Vec3; 3],
+    /// The contact point relative to A's and B's centres (B's zero for a wall).
+    lever_a: Vec3,
+    lever_b: Vec3,
     /// I_A⁻¹(r_A × d), −I_B⁻¹(r_B × d).
     w_a: [Vec3; 3],
     w_b: [Vec3; 3],
@@ -89,6 +69,8 @@ struct Block {
     kt_inv: [[Real; 2]; 2],
     /// Largest eigenvalue bound of the tangential block (its trace), for the stop test.
     kt_trace: Real,
+    /// K_1n, K_2n: how the tangential relative velocities change per unit normal impulse.
+    kt_n: [Real; 2],
 
     target: Real,
     mu: Real,
@@ -189,8 +171,8 @@ impl Block {
             a,
             b: b.unwrap_or(usize::MAX),
             dir,
-            ang_a,
-            ang_b,
+            lever_a: c.lever_a,
+            lever_b: if b.is_some() { c.lever_b } else { Vec3::zeros() },
             w_a,
             w_b,
             inv_ma,
@@ -199,19 +181,33 @@ impl Block {
             knn,
             kt_inv: [[k22 / det, -k12 / det], [-k12 / det, k11 / det]],
             kt_trace: k11 + k22,
+            kt_n: [k(1, 0), k(2, 0)],
             target: target.min_speed,
             mu: target.mu,
         }
     }
 
-    /// Relative velocity of the contact along row `i`.
+    /// Relative velocity of the contact along its normal and two tangents, from one relative
+    /// velocity vector.
     #[inline]
-    fn speed(&self, st: &VelocityState, i: usize) -> Real {
-        let mut u = self.dir[i].dot(&st.v[self.a]) + self.ang_a[i].dot(&st.w[self.a]);
+    fn speeds(&self, st: &VelocityState) -> [Real; 3] {
+        let mut u = st.v[self.a] + st.w[self.a].cross(&self.lever_a);
         if self.b != usize::MAX {
-            u -= self.dir[i].dot(&st.v[self.b]) + self.ang_b[i].dot(&st.w[self.b]);
+            u -= st.v[self.b] + st.w[self.b].cross(&self.lever_b);
         }
-        u
+        [self.dir[0].dot(&u), self.dir[1].dot(&u), self.dir[2].dot(&u)]
+    }
+
+    /// Applies the impulse changes `dl` (normal, then the two tangents) to both bodies at once.
+    #[inline]
+    fn apply_all(&self, st: &mut VelocityState, dl: [Real; 3]) {
+        let j = self.dir[0] * dl[0] + self.dir[1] * dl[1] + self.dir[2] * dl[2];
+        st.v[self.a] += j * self.inv_ma;
+        st.w[self.a] += self.w_a[0] * dl[0] + self.w_a[1] * dl[1] + self.w_a[2] * dl[2];
+        if self.b != usize::MAX {
+            st.v[self.b] -= j * self.inv_mb;
+            st.w[self.b] += self.w_b[0] * dl[0] + self.w_b[1] * dl[1] + self.w_b[2] * dl[2];
+        }
     }
 
     #[inline]
@@ -222,104 +218,6 @@ impl Block {
             st.v[self.b] -= self.dir[i] * (self.inv_mb * dl);
             st.w[self.b] += self.w_b[i] * dl;
         }
-    }
-}
-
-impl PatchBlock {
-    fn new(c: &Contact, blk: &Block, st: &VelocityState, target: &NormalTarget) -> Option<Self> {
-        if target.patch <= 0.0 {
-            return None;
-        }
-        let ia = &st.inv_inertia[blk.a];
-        let wa = blk.dir.map(|d| ia * d);
-        let wb = match c.b_body() {
-            Some(j) => blk.dir.map(|d| st.inv_inertia[j] * d),
-            None => [Vec3::zeros(); 3],
-        };
-        let k = |i: usize, j: usize| blk.dir[i].dot(&(wa[j] + wb[j]));
-        let k_ss = k(0, 0);
-        let (k11, k12, k22) = (k(1, 1), k(1, 2), k(2, 2));
-        let det = k11 * k22 - k12 * k12;
-        let reach = c.lever_a.norm().max(if c.b_body().is_some() { c.lever_b.norm() } else { 0.0 });
-        Some(Self {
-            wa,
-            wb,
-            inv_kss: 1.0 / k_ss,
-            k_ss,
-            kr_inv: [[k22 / det, -k12 / det], [-k12 / det, k11 / det]],
-            kr_trace: k11 + k22,
-            spin: SPIN_FACTOR * target.mu * target.patch,
-            roll: target.patch,
-            reach,
-        })
-    }
-
-    /// Relative angular velocity ω_A − ω_B along row `i`.
-    #[inline]
-    fn turn(&self, blk: &Block, st: &VelocityState, i: usize) -> Real {
-        let mut w = blk.dir[i].dot(&st.w[blk.a]);
-        if blk.b != usize::MAX {
-            w -= blk.dir[i].dot(&st.w[blk.b]);
-        }
-        w
-    }
-
-    #[inline]
-    fn apply(&self, blk: &Block, st: &mut VelocityState, i: usize, dl: Real) {
-        st.w[blk.a] += self.wa[i] * dl;
-        if blk.b != usize::MAX {
-            st.w[blk.b] -= self.wb[i] * dl;
-        }
-    }
-
-    /// Clamps the impulses `l` (spin, then the rolling pair) to the bounds of normal impulse
-    /// `ln`.
-    fn clamp(&self, l: &mut [Real; 3], ln: Real) {
-        let spin = self.spin * ln;
-        l[0] = l[0].clamp(-spin, spin);
-        let roll = self.roll * ln;
-        let norm = (l[1] * l[1] + l[2] * l[2]).sqrt();
-        if norm > roll {
-            let s = if norm > 0.0 { roll / norm } else { 0.0 };
-            l[1] *= s;
-            l[2] *= s;
-        }
-    }
-
-    /// One Gauss–Seidel visit of the spin row and the rolling pair under the normal impulse
-    /// `ln`; returns the largest surface speed it changed, m/s.
-    fn visit(&self, blk: &Block, st: &mut VelocityState, l: &mut [Real; 3], ln: Real, negligible: Real) -> Real {
-        let mut dv: Real = 0.0;
-        let spin = self.spin * ln;
-        let s = (l[0] - self.turn(blk, st, 0) * self.inv_kss).clamp(-spin, spin);
-        let ds = s - l[0];
-        if ds.abs() * self.k_ss * self.reach > negligible {
-            self.apply(blk, st, 0, ds);
-            l[0] = s;
-            dv = ds.abs() * self.k_ss * self.reach;
-        }
-        let (w1, w2) = (self.turn(blk, st, 1), self.turn(blk, st, 2));
-        let old = [l[1], l[2]];
-        let mut r = [
-            old[0] - (self.kr_inv[0][0] * w1 + self.kr_inv[0][1] * w2),
-            old[1] - (self.kr_inv[1][0] * w1 + self.kr_inv[1][1] * w2),
-        ];
-        let roll = self.roll * ln;
-        let norm = (r[0] * r[0] + r[1] * r[1]).sqrt();
-        if norm > roll {
-            let s = if norm > 0.0 { roll / norm } else { 0.0 };
-            r = [r[0] * s, r[1] * s];
-        }
-        let d = [r[0] - old[0], r[1] - old[1]];
-        let dr = (d[0] * d[0] + d[1] * d[1]).sqrt() * self.kr_trace * self.reach;
-        if dr > negligible {
-            self.apply(blk, st, 1, d[0]);
-            self.apply(blk, st, 2, d[1]);
-            l[1] = r[0];
-            l[2] = r[1];
-            dv = dv.max(dr);
-        }
-        dv
     }
 }
 
@@ -383,17 +281,21 @@ pub fn solve_impulses(
             if quiet[k] && still(blk.a) && still(blk.b) {
                 continue;
             }
+            // The normal row, then the tangential pair with the normal change folded into their
+            // relative velocities (K_tn), both written to the bodies in one update.
             let mut dv: Real = 0.0;
-            let un = blk.speed(st, 0);
+            let [un, mut u1, mut u2] = blk.speeds(st);
+            let mut delta = [0.0; 3];
             let new = (ln[k] + (blk.target - un) * blk.inv_knn).max(0.0);
             let dl = new - ln[k];
             if dl.abs() * blk.knn > negligible {
-                blk.apply(st, 0, dl);
                 ln[k] = new;
                 dv = dl.abs() * blk.knn;
+                delta[0] = dl;
+                u1 += blk.kt_n[0] * dl;
+                u2 += blk.kt_n[1] * dl;
             }
             let bound = blk.mu * ln[k];
-            let (u1, u2) = (blk.speed(st, 1), blk.speed(st, 2));
             let old = lt[k];
             let mut t = [
                 old[0] - (blk.kt_inv[0][0] * u1 + blk.kt_inv[0][1] * u2),
@@ -407,10 +309,13 @@ pub fn solve_impulses(
             let d = [t[0] - old[0], t[1] - old[1]];
             let dt = (d[0] * d[0] + d[1] * d[1]).sqrt() * blk.kt_trace;
             if dt > negligible {
-                blk.apply(st, 1, d[0]);
-                blk.apply(st, 2, d[1]);
                 lt[k] = t;
                 dv = dv.max(dt);
+                delta[1] = d[0];
+                delta[2] = d[1];
+            }
+            if dv > 0.0 {
+                blk.apply_all(st, delta);
             }
             if let Some(p) = &patches[k] {
                 dv = dv.max(p.visit(blk, st, &mut lw[k], ln[k], negligible));
@@ -529,7 +434,7 @@ mod tests {
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
         let t = [NormalTarget { min_speed: 0.0, mu, patch: a }];
         let sol = solve_impulses(&[floor(0, 5e-3)], &t, &[WarmStart::default()], &mut st, 1e-12, 50);
-        let want = 50.0 - SPIN_FACTOR * mu * a * 1e-3 * 9.81 * h / 1e-8;
+        let want = 50.0 - patch::SPIN_FACTOR * mu * a * 1e-3 * 9.81 * h / 1e-8;
         assert!((st.w[0].z - want).abs() < 1e-12, "{} against {want}", st.w[0].z);
         assert!(sol.converged);
     }
