@@ -17,9 +17,10 @@ use crate::config::PackConfig;
 use crate::driver::{Ending, PackError};
 use crate::loading::FeederState;
 
-/// Version of the checkpoint layout. A reader accepts its own and version 1 (written before
-/// the velocity-level stepper, whose impulses and integrator ledger it lacks).
-pub const CHECKPOINT_VERSION: u32 = 2;
+/// Version of the checkpoint layout. A reader accepts its own, version 2 (whose warm impulses
+/// lack the torques of the contacts' patches) and version 1 (written before the
+/// velocity-level stepper, whose impulses and integrator ledger it lacks).
+pub const CHECKPOINT_VERSION: u32 = 3;
 
 /// The driver's state between two steps, apart from the world and the loader.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -80,12 +81,65 @@ impl Checkpoint {
             .map_err(|e| setup(e.to_string()))?;
         match version {
             CHECKPOINT_VERSION => pellet_io::decode_message(bytes, path, "checkpoint").map_err(|e| setup(e.to_string())),
+            2 => pellet_io::decode_message::<v2::Checkpoint>(bytes, path, "checkpoint")
+                .map(v2::Checkpoint::upgrade)
+                .map_err(|e| setup(e.to_string())),
             1 => pellet_io::decode_message::<v1::Checkpoint>(bytes, path, "checkpoint")
                 .map(v1::Checkpoint::upgrade)
                 .map_err(|e| setup(e.to_string())),
             _ => Err(setup(format!(
-                "{path}: checkpoint version {version}, this pack reads versions 1 and {CHECKPOINT_VERSION}; run without --resume"
+                "{path}: checkpoint version {version}, this pack reads versions 1 to {CHECKPOINT_VERSION}; run without --resume"
             ))),
+        }
+    }
+}
+
+/// The layout of version 2, read into the current one: its warm impulses carry no patch
+/// torques, and start from none.
+mod v2 {
+    use super::*;
+    use pellet_sim::ContactKey;
+
+    #[derive(Deserialize)]
+    struct Impulse {
+        key: ContactKey,
+        normal: f64,
+        friction: pellet_sim::Vec3,
+        approach: f64,
+    }
+
+    #[derive(Deserialize)]
+    pub(super) struct Checkpoint {
+        version: u32,
+        world: WorldState,
+        warm: Vec<WarmForce>,
+        feeder: FeederState,
+        run: RunState,
+        impulses: Vec<Impulse>,
+    }
+
+    impl Checkpoint {
+        pub(super) fn upgrade(self) -> super::Checkpoint {
+            debug_assert_eq!(self.version, 2);
+            let impulses = self
+                .impulses
+                .into_iter()
+                .map(|w| WarmImpulse {
+                    key: w.key,
+                    normal: w.normal,
+                    friction: w.friction,
+                    torque: pellet_sim::Vec3::zeros(),
+                    approach: w.approach,
+                })
+                .collect();
+            super::Checkpoint {
+                version: CHECKPOINT_VERSION,
+                world: self.world,
+                warm: self.warm,
+                feeder: self.feeder,
+                run: self.run,
+                impulses,
+            }
         }
     }
 }

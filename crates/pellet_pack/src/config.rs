@@ -89,6 +89,8 @@ pub struct PackOptions {
     pub foxglove: Option<bool>,
     /// The engine's time-stepping scheme.
     pub stepper: Option<Stepper>,
+    /// Radius of the patch a contact point stands for, in pellet diameters (velocity-level stepper).
+    pub contact_patch: Option<f64>,
 }
 
 /// Which contact model the engine uses.
@@ -113,6 +115,11 @@ pub enum ClampRule {
     /// Drop it (the literal reading of the paper; the paper model's rule).
     Zero,
 }
+
+/// The radius of the patch a contact point stands for, in pellet diameters: a Hertz contact
+/// between 10 mm ceramic pellets under a few pellets' weight is about that wide
+/// (`docs/engine.md`, "Contact points as small patches").
+pub const DEFAULT_CONTACT_PATCH: f64 = 1e-3;
 
 /// εp of both contact models (m/s), for mm pellets: twice g·δt_cap at δt_cap = 2.5e-4 s, so
 /// that a body whose contact has just formed does not re-collide every substep.
@@ -180,7 +187,8 @@ impl PackOptions {
             resting_band,
             friction_clamp,
             foxglove,
-            stepper
+            stepper,
+            contact_patch
         )
     }
 }
@@ -258,6 +266,11 @@ pub struct PackConfig {
     /// `acceleration`, the scheme that wrote them.
     #[serde(default)]
     pub stepper: Stepper,
+    /// Radius of the patch a contact point stands for under the velocity-level stepper, as a
+    /// fraction of the pellet diameter (0: contact points turn freely). Archives
+    /// written before it existed read as 0, the model that wrote them.
+    #[serde(default)]
+    pub contact_patch_dp: f64,
 }
 
 fn default_checkpoint_every() -> f64 {
@@ -363,6 +376,7 @@ impl PackConfig {
             resting_band_m_s: check("resting-band", o.resting_band.unwrap_or(DEFAULT_RESTING_BAND))?,
             friction_clamp: o.friction_clamp,
             stepper: o.stepper.unwrap_or(DEFAULT_STEPPER),
+            contact_patch_dp: check("contact-patch", o.contact_patch.unwrap_or(DEFAULT_CONTACT_PATCH))?,
         })
     }
 }

@@ -78,6 +78,8 @@ pub(crate) const KEYS: &[(&str, Kind)] = &[
     ("friction-clamp", Kind::OneOf(&["stick", "zero"])),
     ("foxglove", Kind::Flag),
     ("stepper", Kind::OneOf(&["acceleration", "velocity"])),
+    // Up to a tenth of the pellet: a wider patch is not a contact point's any more.
+    ("contact-patch", closed(0.0, 0.1, " dp")),
 ];
 
 /// What `key` takes; `None` for a key `pack` does not have.
@@ -159,6 +161,7 @@ mod tests {
             friction_clamp: Some(ClampRule::Zero),
             foxglove: Some(true),
             stepper: Some(Stepper::Velocity),
+            contact_patch: Some(1.0),
         };
         let fields = match serde_json::to_value(all).unwrap() {
             serde_json::Value::Object(m) => m.keys().cloned().collect::<Vec<_>>(),

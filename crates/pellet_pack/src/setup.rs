@@ -4,7 +4,8 @@
 
 use pellet_geom::{ClosedForm, Pellet};
 use pellet_sim::{
-    BodyType, Container, EngineParams, FrictionClamp, IterativeSolver, Material, ShapeDesc, WallMaterial, World,
+    BodyType, Container, EngineParams, FrictionClamp, IterativeSolver, Material, ShapeDesc, VelocityParams,
+    WallMaterial, World,
 };
 
 use crate::config::{ClampRule, ContactModel, PackConfig};
@@ -163,6 +164,7 @@ pub fn engine_params(config: &PackConfig) -> EngineParams {
         dt_cap: base.dt_cap.min(0.5 * eps / g),
         friction_clamp,
         stepper: config.stepper,
+        velocity: VelocityParams { patch_radius: config.contact_patch_dp, ..base.velocity },
         ..base
     }
 }

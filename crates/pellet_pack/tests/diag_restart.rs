@@ -6,7 +6,7 @@
 //! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo test --release -p pellet_pack --test diag_restart -- --ignored --nocapture`
 //!
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
-//! run, `STEP` the engine call's step (s, default 1/40); `VELOCITY` runs the velocity-level stepper; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g), `MAX_SWEEPS`, `VTOL` (the velocity solve's tolerance / εp) change one
+//! run, `STEP` the engine call's step (s, default 1/40); `VELOCITY` runs the velocity-level stepper; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g), `MAX_SWEEPS`, `VTOL` (the velocity solve's tolerance / εp), `PATCH` (the point contacts' patch radius / d) change one
 //! setting, and `CONTACTS` lists the fastest pellet's contacts (or pellet `BODY`'s, whose motion is
 //! printed too) after every step; `PAIRS` counts contact points per pair; `CHECKPOINT` goes on
 //! from the trajectory's last checkpoint (velocities and warm starts included) instead. The tube and
@@ -65,6 +65,9 @@ fn restart_from_a_frame() {
     }
     if let Ok(v) = std::env::var("MAX_SWEEPS") {
         params.velocity.max_sweeps = v.parse().unwrap();
+    }
+    if let Ok(v) = std::env::var("PATCH") {
+        params.velocity.patch_radius = v.parse().unwrap();
     }
 
     if std::env::var("PGS_ONLY").is_ok() {

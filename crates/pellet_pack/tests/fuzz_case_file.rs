@@ -42,6 +42,7 @@ resting-band = 5e-3
 friction-clamp = "stick"
 foxglove = false
 stepper = "acceleration"
+contact-patch = 1e-3
 "#;
 
 /// Reads and resolves a case file; every error is one readable line.

@@ -125,3 +125,48 @@ fn another_checkpoint_version_is_refused() {
     let e = Checkpoint::decode(&bytes, "x.mcap").unwrap_err().to_string();
     assert!(e.contains("checkpoint version") && e.contains("without --resume"), "{e}");
 }
+
+/// A checkpoint of layout 2, whose warm impulses had no patch torques, is read with every
+/// torque zero and everything else as written.
+#[test]
+fn a_layout_2_checkpoint_is_read_with_no_torques() {
+    use serde::Serialize;
+    #[derive(Serialize)]
+    struct Impulse {
+        key: pellet_sim::ContactKey,
+        normal: f64,
+        friction: pellet_sim::Vec3,
+        approach: f64,
+    }
+    #[derive(Serialize)]
+    struct Layout2<'a> {
+        version: u32,
+        world: &'a pellet_sim::WorldState,
+        warm: &'a [pellet_sim::WarmForce],
+        feeder: &'a pellet_pack::FeederState,
+        run: &'a pellet_pack::RunState,
+        impulses: Vec<Impulse>,
+    }
+    let mut whole = Recorder::default();
+    run_pack(&config_with(0.6, Stepper::Velocity), &cylinder(), &mut whole).unwrap();
+    let now = Checkpoint::decode(&whole.checkpoints.last().unwrap().1, "x.mcap").unwrap();
+    assert!(now.impulses.iter().any(|w| w.torque != pellet_sim::Vec3::zeros()), "no patch torque to drop");
+    let old = Layout2 {
+        version: 2,
+        world: &now.world,
+        warm: &now.warm,
+        feeder: &now.feeder,
+        run: &now.run,
+        impulses: now
+            .impulses
+            .iter()
+            .map(|w| Impulse { key: w.key, normal: w.normal, friction: w.friction, approach: w.approach })
+            .collect(),
+    };
+    let read = Checkpoint::decode(&pellet_io::encode_message(&old).unwrap(), "x.mcap").unwrap();
+    let mut want = now.clone();
+    for w in &mut want.impulses {
+        w.torque = pellet_sim::Vec3::zeros();
+    }
+    assert_eq!(read, want);
+}

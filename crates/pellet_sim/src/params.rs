@@ -80,11 +80,23 @@ pub struct VelocityParams {
     pub relative_tolerance: Real,
     /// Largest number of Gauss–Seidel sweeps per step.
     pub max_sweeps: usize,
+    /// Radius of the patch each contact point between pellets (or a pellet and a wall, not two
+    /// spheres or a sphere and a wall) stands for, factor of the nominal pellet size
+    /// (`World::nominal_size`): it bounds the contact's spin torque at (3π/16) μ a λ_n and its
+    /// rolling torque at a λ_n. 0: contact points turn freely.
+    pub patch_radius: Real,
 }
 
 impl Default for VelocityParams {
     fn default() -> Self {
-        Self { max_step: 1.25e-3, travel: 0.025, tolerance_factor: 2e-7, relative_tolerance: 1e-2, max_sweeps: 1000 }
+        Self {
+            max_step: 1.25e-3,
+            travel: 0.025,
+            tolerance_factor: 2e-7,
+            relative_tolerance: 1e-2,
+            max_sweeps: 1000,
+            patch_radius: 1e-3,
+        }
     }
 }
 

@@ -128,6 +128,12 @@ pub struct Args {
     /// [default: acceleration].
     #[arg(long, value_enum)]
     stepper: Option<StepperArg>,
+    /// Under the velocity-level stepper, the radius of the patch each contact point stands for,
+    /// in pellet diameters (not used between spheres): the spin of the contact is bounded by
+    /// the patch's Coulomb torque (3π/16) μ a N and its rolling by a N, so that a pellet held at
+    /// one or two points comes to rest; 0 lets contact points turn freely [default: 0.001].
+    #[arg(long, value_name = "DP")]
+    contact_patch: Option<f64>,
     /// Simulated time limit (s; a whole number of the 0.005 s engine steps) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
@@ -265,6 +271,7 @@ impl Args {
                 ModelArg::Paper => ContactModel::Paper,
                 ModelArg::Recommended => ContactModel::Recommended,
             }),
+            contact_patch: self.contact_patch,
         }
     }
 }

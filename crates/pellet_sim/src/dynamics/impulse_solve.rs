@@ -6,12 +6,18 @@
 //! clamped at zero, then the tangential pair from its own 2×2 block and projected onto the
 //! disk (the exact circular cone, not a facetted one; the projection of a 2×2 step that is not
 //! isotropic slides a contact slightly off the direction opposite its slip, by the block's
-//! anisotropy, which is zero for spheres and walls). Bodies' velocities live in flat arrays
-//! for the sweeps; the answer is deterministic (contacts in their given order).
+//! anisotropy, which is zero for spheres and walls). A contact point stands for a small patch
+//! and resists the relative turning of its bodies as a patch does (`docs/engine.md`, "Contact
+//! points as small patches"): a spin row bounded by the patch's Coulomb torque and a rolling
+//! pair bounded by the normal force at the patch's rim. Bodies' velocities live
+//! in flat arrays for the sweeps; the answer is deterministic (contacts in their given order).
 
 use crate::body::Body;
 use crate::geometry::contact::Contact;
 use crate::math::{Mat3, Real, Vec3};
+
+mod patch;
+use patch::PatchBlock;
 
 /// A block's update smaller than this fraction of the tolerance (m/s of relative velocity) is
 /// not applied, so that round-off does not keep its bodies "moving" for the skip test.
@@ -24,6 +30,19 @@ pub struct NormalTarget {
     pub min_speed: Real,
     /// Coulomb coefficient of the contact.
     pub mu: Real,
+    /// Radius of the patch the contact point stands for, m (0: a point that turns freely).
+    pub patch: Real,
+}
+
+/// Where a solve starts from: a contact's impulses of the last step (N·s).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WarmStart {
+    /// Normal impulse.
+    pub normal: Real,
+    /// Friction impulse on body A, world frame.
+    pub friction: Vec3,
+    /// Angular impulse of a patch on body A, world frame, N·m·s.
+    pub torque: Vec3,
 }
 
 /// One contact's rows, with their M⁻¹Jᵀ blocks (B's with its sign applied).
@@ -34,8 +53,9 @@ struct Block {
     b: usize,
     /// Normal, then the two tangents.
     dir: [Vec3; 3],
-    ang_a: [Vec3; 3],
-    ang_b: [Vec3; 3],
+    /// The contact point relative to A's and B's centres (B's zero for a wall).
+    lever_a: Vec3,
+    lever_b: Vec3,
     /// I_A⁻¹(r_A × d), −I_B⁻¹(r_B × d).
     w_a: [Vec3; 3],
     w_b: [Vec3; 3],
@@ -49,6 +69,8 @@ struct Block {
     kt_inv: [[Real; 2]; 2],
     /// Largest eigenvalue bound of the tangential block (its trace), for the stop test.
     kt_trace: Real,
+    /// K_1n, K_2n: how the tangential relative velocities change per unit normal impulse.
+    kt_n: [Real; 2],
 
     target: Real,
     mu: Real,
@@ -61,6 +83,8 @@ pub struct ImpulseSolution {
     pub normal: Vec<Real>,
     /// Friction impulse on body A per contact, world frame, N·s.
     pub friction: Vec<Vec3>,
+    /// Angular impulse of each contact's patch on body A, world frame, N·m·s.
+    pub torque: Vec<Vec3>,
     /// Relative velocity per contact before the impulses (the free velocity), m/s.
     pub relative_before: Vec<Vec3>,
     /// Relative velocity per contact after the step, m/s.
@@ -147,8 +171,8 @@ impl Block {
             a,
             b: b.unwrap_or(usize::MAX),
             dir,
-            ang_a,
-            ang_b,
+            lever_a: c.lever_a,
+            lever_b: if b.is_some() { c.lever_b } else { Vec3::zeros() },
             w_a,
             w_b,
             inv_ma,
@@ -157,19 +181,33 @@ impl Block {
             knn,
             kt_inv: [[k22 / det, -k12 / det], [-k12 / det, k11 / det]],
             kt_trace: k11 + k22,
+            kt_n: [k(1, 0), k(2, 0)],
             target: target.min_speed,
             mu: target.mu,
         }
     }
 
-    /// Relative velocity of the contact along row `i`.
+    /// Relative velocity of the contact along its normal and two tangents, from one relative
+    /// velocity vector.
     #[inline]
-    fn speed(&self, st: &VelocityState, i: usize) -> Real {
-        let mut u = self.dir[i].dot(&st.v[self.a]) + self.ang_a[i].dot(&st.w[self.a]);
+    fn speeds(&self, st: &VelocityState) -> [Real; 3] {
+        let mut u = st.v[self.a] + st.w[self.a].cross(&self.lever_a);
         if self.b != usize::MAX {
-            u -= self.dir[i].dot(&st.v[self.b]) + self.ang_b[i].dot(&st.w[self.b]);
+            u -= st.v[self.b] + st.w[self.b].cross(&self.lever_b);
         }
-        u
+        [self.dir[0].dot(&u), self.dir[1].dot(&u), self.dir[2].dot(&u)]
+    }
+
+    /// Applies the impulse changes `dl` (normal, then the two tangents) to both bodies at once.
+    #[inline]
+    fn apply_all(&self, st: &mut VelocityState, dl: [Real; 3]) {
+        let j = self.dir[0] * dl[0] + self.dir[1] * dl[1] + self.dir[2] * dl[2];
+        st.v[self.a] += j * self.inv_ma;
+        st.w[self.a] += self.w_a[0] * dl[0] + self.w_a[1] * dl[1] + self.w_a[2] * dl[2];
+        if self.b != usize::MAX {
+            st.v[self.b] -= j * self.inv_mb;
+            st.w[self.b] += self.w_b[0] * dl[0] + self.w_b[1] * dl[1] + self.w_b[2] * dl[2];
+        }
     }
 
     #[inline]
@@ -184,23 +222,33 @@ impl Block {
 }
 
 /// Solves the step's contact problem from the free velocities in `st` (changed in place to
-/// the velocities after the step), starting from `warm` impulses (normal, friction vector on
-/// A). Stops once a sweep changes no relative velocity by more than `tolerance` (m/s), or
+/// the velocities after the step), starting from `warm` impulses. Stops once a sweep changes no relative velocity by more than `tolerance` (m/s), or
 /// after `max_sweeps`.
 pub fn solve_impulses(
     contacts: &[Contact],
     targets: &[NormalTarget],
-    warm: &[(Real, Vec3)],
+    warm: &[WarmStart],
     st: &mut VelocityState,
     tolerance: Real,
     max_sweeps: usize,
 ) -> ImpulseSolution {
     let blocks: Vec<Block> = contacts.iter().zip(targets).map(|(c, t)| Block::new(c, st, t)).collect();
+    let patches: Vec<Option<PatchBlock>> =
+        contacts.iter().zip(&blocks).zip(targets).map(|((c, b), t)| PatchBlock::new(c, b, st, t)).collect();
     let relative_before: Vec<Vec3> = contacts.iter().map(|c| st.relative(c)).collect();
     let mut ln: Vec<Real> = Vec::with_capacity(blocks.len());
     let mut lt: Vec<[Real; 2]> = Vec::with_capacity(blocks.len());
-    for (blk, &(n0, f0)) in blocks.iter().zip(warm) {
-        let n0 = n0.max(0.0);
+    let mut lw: Vec<[Real; 3]> = vec![[0.0; 3]; blocks.len()];
+    for (k, (blk, w)) in blocks.iter().zip(warm).enumerate() {
+        let (n0, f0) = (w.normal.max(0.0), w.friction);
+        if let Some(p) = &patches[k] {
+            let mut l = blk.dir.map(|d| d.dot(&w.torque));
+            p.clamp(&mut l, n0);
+            for (i, &li) in l.iter().enumerate() {
+                p.apply(blk, st, i, li);
+            }
+            lw[k] = l;
+        }
         let mut t = [f0.dot(&blk.dir[1]), f0.dot(&blk.dir[2])];
         let norm = (t[0] * t[0] + t[1] * t[1]).sqrt();
         if norm > blk.mu * n0 {
@@ -233,17 +281,21 @@ pub fn solve_impulses(
             if quiet[k] && still(blk.a) && still(blk.b) {
                 continue;
             }
+            // The normal row, then the tangential pair with the normal change folded into their
+            // relative velocities (K_tn), both written to the bodies in one update.
             let mut dv: Real = 0.0;
-            let un = blk.speed(st, 0);
+            let [un, mut u1, mut u2] = blk.speeds(st);
+            let mut delta = [0.0; 3];
             let new = (ln[k] + (blk.target - un) * blk.inv_knn).max(0.0);
             let dl = new - ln[k];
             if dl.abs() * blk.knn > negligible {
-                blk.apply(st, 0, dl);
                 ln[k] = new;
                 dv = dl.abs() * blk.knn;
+                delta[0] = dl;
+                u1 += blk.kt_n[0] * dl;
+                u2 += blk.kt_n[1] * dl;
             }
             let bound = blk.mu * ln[k];
-            let (u1, u2) = (blk.speed(st, 1), blk.speed(st, 2));
             let old = lt[k];
             let mut t = [
                 old[0] - (blk.kt_inv[0][0] * u1 + blk.kt_inv[0][1] * u2),
@@ -257,10 +309,16 @@ pub fn solve_impulses(
             let d = [t[0] - old[0], t[1] - old[1]];
             let dt = (d[0] * d[0] + d[1] * d[1]).sqrt() * blk.kt_trace;
             if dt > negligible {
-                blk.apply(st, 1, d[0]);
-                blk.apply(st, 2, d[1]);
                 lt[k] = t;
                 dv = dv.max(dt);
+                delta[1] = d[0];
+                delta[2] = d[1];
+            }
+            if dv > 0.0 {
+                blk.apply_all(st, delta);
+            }
+            if let Some(p) = &patches[k] {
+                dv = dv.max(p.visit(blk, st, &mut lw[k], ln[k], negligible));
             }
             quiet[k] = dv == 0.0;
             if !quiet[k] {
@@ -280,6 +338,7 @@ pub fn solve_impulses(
         }
     }
     sol.friction = blocks.iter().zip(&lt).map(|(b, t)| b.dir[1] * t[0] + b.dir[2] * t[1]).collect();
+    sol.torque = blocks.iter().zip(&lw).map(|(b, l)| b.dir[0] * l[0] + b.dir[1] * l[1] + b.dir[2] * l[2]).collect();
     sol.normal = ln;
     sol.relative_after = contacts.iter().map(|c| st.relative(c)).collect();
     sol.relative_before = relative_before;
@@ -334,8 +393,8 @@ mod tests {
         let c = floor(0, 5e-3);
         let sol = solve_impulses(
             &[c],
-            &[NormalTarget { min_speed: 0.0, mu: 0.3 }],
-            &[(0.0, Vec3::zeros())],
+            &[NormalTarget { min_speed: 0.0, mu: 0.3, patch: 0.0 }],
+            &[WarmStart::default()],
             &mut st,
             1e-12,
             50,
@@ -353,14 +412,51 @@ mod tests {
         let b = sphere(5e-3, Vec3::new(0.0, 0.0, -1.0));
         let g = Vec3::zeros();
         let c = floor(0, 5e-3);
-        let t = [NormalTarget { min_speed: 0.5, mu: 0.0 }];
+        let t = [NormalTarget { min_speed: 0.5, mu: 0.0, patch: 0.0 }];
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, 1e-3);
-        let sol = solve_impulses(std::slice::from_ref(&c), &t, &[(0.0, Vec3::zeros())], &mut st, 1e-12, 50);
+        let sol = solve_impulses(std::slice::from_ref(&c), &t, &[WarmStart::default()], &mut st, 1e-12, 50);
         assert!((st.v[0].z - 0.5).abs() < 1e-12);
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, 1e-3);
-        let again = solve_impulses(&[c], &t, &[(sol.normal[0], Vec3::zeros())], &mut st, 1e-12, 50);
+        let warm = WarmStart { normal: sol.normal[0], ..WarmStart::default() };
+        let again = solve_impulses(&[c], &t, &[warm], &mut st, 1e-12, 50);
         assert_eq!(again.sweeps, 1);
         assert!((st.v[0].z - 0.5).abs() < 1e-12);
+    }
+
+    /// A ball spinning fast about the floor's normal on a patch of radius a: one step of h
+    /// takes Hertz's full-slip torque (3π/16) μ a λ_n off its spin, λ_n = m g h.
+    #[test]
+    fn a_patch_slows_a_spin_by_its_coulomb_torque() {
+        let mut b = sphere(5e-3, Vec3::zeros());
+        b.angular_momentum = Vec3::new(0.0, 0.0, 1e-8 * 50.0);
+        let (h, a, mu) = (1e-3, 1e-5, 0.3);
+        let g = Vec3::new(0.0, 0.0, -9.81);
+        let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
+        let t = [NormalTarget { min_speed: 0.0, mu, patch: a }];
+        let sol = solve_impulses(&[floor(0, 5e-3)], &t, &[WarmStart::default()], &mut st, 1e-12, 50);
+        let want = 50.0 - patch::SPIN_FACTOR * mu * a * 1e-3 * 9.81 * h / 1e-8;
+        assert!((st.w[0].z - want).abs() < 1e-12, "{} against {want}", st.w[0].z);
+        assert!(sol.converged);
+    }
+
+    /// A ball rolling on the floor (μ large enough to hold it): the patch's rolling torque
+    /// a λ_n, with friction keeping the contact from slipping, takes a λ_n / (I + m r²) off
+    /// its rolling speed in a step.
+    #[test]
+    fn a_patch_slows_rolling_by_its_rim_torque() {
+        let (r, w0) = (5e-3, 1.0);
+        let mut b = sphere(r, Vec3::new(0.0, -w0 * r, 0.0));
+        b.angular_momentum = Vec3::new(1e-8 * w0, 0.0, 0.0);
+        let (h, a) = (1e-3, 1e-5);
+        let g = Vec3::new(0.0, 0.0, -9.81);
+        let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
+        let t = [NormalTarget { min_speed: 0.0, mu: 0.5, patch: a }];
+        let sol = solve_impulses(&[floor(0, r)], &t, &[WarmStart::default()], &mut st, 1e-14, 200);
+        let want = w0 - a * 1e-3 * 9.81 * h / (1e-8 + 1e-3 * r * r);
+        assert!(sol.converged);
+        assert!((st.w[0].x - want).abs() < 1e-9, "{} against {want}", st.w[0].x);
+        assert!((st.v[0].y + st.w[0].x * r).abs() < 1e-9, "the contact slips");
+        assert!((sol.torque[0].x + a * sol.normal[0]).abs() < 1e-18);
     }
 
     #[test]

@@ -4,8 +4,8 @@
 //! Cylinders and rings, analytically: against a plane, per outer rim the lowest point plus the
 //! three rim points 90°, 180° and 270° from it (a cap lying flat then gives a 4-point support
 //! square; tilted, only the lowest point is near); against the tube wall, per outer rim the
-//! point of largest radial distance (a 1-D maximisation along the rim). The maximum of the
-//! convex function ρ over a cylinder lies on a rim circle, so this is exact.
+//! points of locally largest radial distance (1-D maximisations along the rim; at most two). The
+//! maximum of the convex function ρ over a cylinder lies on a rim circle, so this is exact.
 //! Mesh shapes: their samples, reduced to ≤ 4 points per wall.
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
@@ -25,6 +25,8 @@ const TUBE_SCAN: usize = 16;
 const FLAT_TILT: Real = 1e-2;
 /// Angles per turn to which the lowest rim point of a nearly flat rim is rounded.
 const FLAT_ANGLES: Real = 128.0;
+/// Feature offset of a rim's second point on the tube wall (`tube_points`).
+const TUBE_SECOND: u32 = 1 << 8;
 
 /// A plane wall as (inward normal, offset): gap(p) = n·p − offset.
 fn plane(container: &Container, wall: WallId) -> Option<(Vec3, Real)> {
@@ -66,12 +68,12 @@ fn rims_wall(container: &Container, wall: WallId, a: &Pellet<'_>, max_gap: Real,
 }
 
 /// The rim feature's wall contact: on a plane wall, feature 4k + j is point j of rim k; on the
-/// tube, feature k is rim k's point nearest the wall.
+/// tube, feature k or k + `TUBE_SECOND` is one of rim k's points nearest the wall.
 fn rim_of_feature(container: &Container, wall: WallId, feature: u32) -> usize {
     if plane(container, wall).is_some() {
         feature as usize / 4
     } else {
-        feature as usize
+        (feature % TUBE_SECOND) as usize
     }
 }
 
@@ -121,27 +123,64 @@ fn rim_wall(
             }
         }
     } else {
-        let world = |t: Real| rot * rim_point(rim.radius, rim.z, t) + x;
-        let neg_rho = |t: Real| {
-            let p = world(t);
-            -axial_distance(p.x, p.y)
-        };
-        let step = TAU / TUBE_SCAN as Real;
-        let best = (0..TUBE_SCAN).map(|s| step * s as Real).fold((0.0, Real::INFINITY), |b, t| {
-            let v = neg_rho(t);
-            if v < b.1 {
-                (t, v)
-            } else {
-                b
+        for (p, feature) in tube_points(a, rot, k) {
+            let (n, gap, rho) = tube_at(container, &p);
+            if gap <= max_gap {
+                out.push(make(a, wall, p, n, gap, GapKinematics::PointTube { rho }, feature));
             }
-        });
-        let (t, _) = golden_min(neg_rho, best.0 - step, best.0 + step);
-        let p = world(t);
-        let (n, gap, rho) = tube_at(container, &p);
-        if gap <= max_gap {
-            out.push(make(a, wall, p, n, gap, GapKinematics::PointTube { rho }, k as u32));
         }
     }
+}
+
+/// The points of rim `k` of `a` nearest the tube wall, with their features: every local maximum
+/// of the radial distance ρ along the rim, refined by golden section from a coarse scan. There
+/// are at most two: ρ² along a circle is a trigonometric polynomial of degree 2. A cap facing the
+/// wall touches it at two rim points, left and right of its centre, whose radial distances differ
+/// only by its tilt; one point alone let the cap turn about it into the wall. A single maximum
+/// is feature k; of two, the one on the rim's clockwise side (seen from the axis) is k and the
+/// other k + `TUBE_SECOND`, so that a cap at rest keeps both keys.
+fn tube_points(a: &Pellet<'_>, rot: &Mat3, k: usize) -> Vec<(Vec3, u32)> {
+    let rim = &a.geom.rims[k];
+    let x = a.body.position;
+    let world = |t: Real| rot * rim_point(rim.radius, rim.z, t) + x;
+    let neg_rho = |t: Real| {
+        let p = world(t);
+        -axial_distance(p.x, p.y)
+    };
+    let step = TAU / TUBE_SCAN as Real;
+    let scan: Vec<Real> = (0..TUBE_SCAN).map(|s| neg_rho(step * s as Real)).collect();
+    let mut found: Vec<(Real, Real)> = Vec::with_capacity(2);
+    for s in 0..TUBE_SCAN {
+        let (prev, next) = (scan[(s + TUBE_SCAN - 1) % TUBE_SCAN], scan[(s + 1) % TUBE_SCAN]);
+        // A local minimum of −ρ among the scan (ties towards the lower index).
+        if scan[s] <= prev && scan[s] < next {
+            let t0 = step * s as Real;
+            let (t, v) = golden_min(neg_rho, t0 - step, t0 + step);
+            let t = t.rem_euclid(TAU);
+            let same = |u: Real| {
+                let d = (u - t).rem_euclid(TAU);
+                d.min(TAU - d) < 1e-6
+            };
+            if !found.iter().any(|&(u, _)| same(u)) {
+                found.push((t, v));
+            }
+        }
+    }
+    // A rim of a pellet upright on the floor is a horizontal circle with one maximum; the scan
+    // finds at least one whenever the scan values are not all equal (a rim centred on the axis).
+    if found.is_empty() {
+        found.push((0.0, neg_rho(0.0)));
+    }
+    found.sort_by(|p, q| p.1.total_cmp(&q.1).then(p.0.total_cmp(&q.0)));
+    found.truncate(2);
+    let points: Vec<Vec3> = found.iter().map(|&(t, _)| world(t)).collect();
+    if points.len() == 1 {
+        return vec![(points[0], k as u32)];
+    }
+    let centre = x + rot.column(2).into_owned() * rim.z;
+    let side = |p: &Vec3| Vec3::z().cross(&centre).dot(&(p - centre));
+    let first = if side(&points[0]) <= side(&points[1]) { 0 } else { 1 };
+    vec![(points[first], k as u32), (points[1 - first], k as u32 + TUBE_SECOND)]
 }
 
 /// The wall contact of mesh sample `i` of `a`.

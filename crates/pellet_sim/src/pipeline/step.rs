@@ -70,6 +70,9 @@ pub struct WarmImpulse {
     pub normal: Real,
     /// Friction impulse on body A over the step length, world frame, N.
     pub friction: Vec3,
+    /// Angular impulse of the contact's patch on body A over the step length, world frame,
+    /// N·m.
+    pub torque: Vec3,
     /// The relative normal velocity (m/s, < 0) with which the contact was closing when the
     /// last step stopped it at the touching gap; 0 if it was not. The next step's restitution
     /// acts on this speed, as the impact happened at the end of that step.

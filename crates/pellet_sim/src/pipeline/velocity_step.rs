@@ -13,7 +13,7 @@ use super::step::{Pipeline, StepReport, WarmImpulse};
 use super::world::World;
 use crate::body::Body;
 use crate::container::WallId;
-use crate::dynamics::impulse_solve::{solve_impulses, NormalTarget, VelocityState};
+use crate::dynamics::impulse_solve::{solve_impulses, NormalTarget, VelocityState, WarmStart};
 use crate::dynamics::integrator::advance;
 use crate::dynamics::rows::relative_velocity_from;
 use crate::error::SimError;
@@ -35,6 +35,25 @@ struct Near {
 impl World {
     fn round(&self, k: usize) -> bool {
         matches!(self.types[self.bodies[k].type_id.0 as usize].shape, ShapeDesc::Sphere { .. })
+    }
+
+    /// The radius of the patch each contact point stands for (m): `VelocityParams::patch_radius`
+    /// of the pellet size, unless both sides are round (spheres and walls), whose contacts
+    /// leave no mode that keeps a bed from rest (`docs/engine.md`, "Contact points as small
+    /// patches").
+    fn patch_radii(&self, contacts: &[Contact]) -> Vec<Real> {
+        let a = self.params.velocity.patch_radius * self.nominal_size();
+        contacts
+            .iter()
+            .map(|c| {
+                let round = self.round(c.a) && c.b_body().is_none_or(|b| self.round(b));
+                if round {
+                    0.0
+                } else {
+                    a
+                }
+            })
+            .collect()
     }
 
     /// Pairs and walls that may come within δ_c of each other over `horizon` (swept bounding
@@ -184,11 +203,12 @@ impl World {
             let omega0: Vec<Vec3> = self.bodies.iter().map(Body::angular_velocity).collect();
             let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity_from(c, &vel0, &omega0)).collect();
             let memory = remembered(&pipeline.impulses, &contacts);
+            let patches = self.patch_radii(&contacts);
             let (mut colliding, mut resting) = (0u64, 0u64);
             let mut targets = Vec::with_capacity(contacts.len());
             let mut warm = Vec::with_capacity(contacts.len());
             let mut colliding_now = Vec::with_capacity(contacts.len());
-            for ((c, u), m) in contacts.iter().zip(&u0).zip(&memory) {
+            for (((c, u), m), &patch) in contacts.iter().zip(&u0).zip(&memory).zip(&patches) {
                 let (cor, mu) = match c.b {
                     Counterpart::Body(_) => (self.material.cor, self.material.friction),
                     Counterpart::Wall(_) => (self.wall_material.cor, self.wall_material.friction),
@@ -196,7 +216,7 @@ impl World {
                 let un = c.normal.dot(u);
                 let pending = m.approach < 0.0;
                 let approach = if pending { un.min(m.approach) } else { un };
-                let start = (m.normal * h, m.friction * h);
+                let start = WarmStart { normal: m.normal * h, friction: m.friction * h, torque: m.torque * h };
                 // An open contact closing fast is first brought to the touching gap, and bounces
                 // the step after, from there: bouncing at once from up to δ_c would move the
                 // bounce point from one impact to the next, and a ball bouncing on the spot
@@ -208,7 +228,7 @@ impl World {
                     // relative velocity over the step (against a wall; none between two
                     // pellets) follows it. Never below what keeps the gap from closing.
                     let fall = if c.b_body().is_none() { c.normal.dot(&g) * h } else { 0.0 };
-                    ((-cor * approach + fall).max(-c.gap.max(0.0) / h), (0.0, Vec3::zeros()))
+                    ((-cor * approach + fall).max(-c.gap.max(0.0) / h), WarmStart::default())
                 } else {
                     if c.gap <= delta_c {
                         resting += 1;
@@ -216,7 +236,7 @@ impl World {
                     (-c.gap.max(0.0) / h, start)
                 };
                 colliding_now.push(collide);
-                targets.push(NormalTarget { min_speed, mu });
+                targets.push(NormalTarget { min_speed, mu, patch });
                 warm.push(w);
             }
             let mut st = VelocityState::free(&self.bodies, &g, h);
@@ -238,11 +258,11 @@ impl World {
                 let j = c.normal * sol.normal[k] + sol.friction[k];
                 touched[c.a] = true;
                 dp[c.a] += j;
-                dl[c.a] += c.lever_a.cross(&j);
+                dl[c.a] += c.lever_a.cross(&j) + sol.torque[k];
                 if let Some(b) = c.b_body() {
                     touched[b] = true;
                     dp[b] -= j;
-                    dl[b] -= c.lever_b.cross(&j);
+                    dl[b] -= c.lever_b.cross(&j) + sol.torque[k];
                 }
             }
             let mut integrator = 0.0;
@@ -270,6 +290,10 @@ impl World {
                 let mean = 0.5 * (u0[k] + sol.relative_after[k]);
                 normal_work += sol.normal[k] * c.normal.dot(&mean);
                 friction_work += sol.friction[k].dot(&mean);
+                if patches[k] > 0.0 {
+                    let turn = |w: &[Vec3]| w[c.a] - c.b_body().map_or(Vec3::zeros(), |b| w[b]);
+                    friction_work += sol.torque[k].dot(&(0.5 * (turn(&omega0) + turn(&st.w))));
+                }
                 if sol.normal[k] > 0.0 && colliding_now[k] {
                     impacts += 1;
                 }
@@ -320,6 +344,7 @@ impl World {
                         key: c.key,
                         normal: sol.normal[k] / h,
                         friction: sol.friction[k] / h,
+                        torque: sol.torque[k] / h,
                         approach,
                     })
                 })
@@ -334,11 +359,13 @@ impl World {
     }
 }
 
-/// What a contact remembers of the last step: its forces (N) and pending approach (m/s).
+/// What a contact remembers of the last step: its forces (N), its patch's torque (N·m) and
+/// pending approach (m/s).
 #[derive(Clone, Copy, Default)]
 struct Memory {
     normal: Real,
     friction: Vec3,
+    torque: Vec3,
     approach: Real,
 }
 
@@ -364,7 +391,12 @@ fn remembered(memory: &[WarmImpulse], contacts: &[Contact]) -> Vec<Memory> {
     contacts
         .iter()
         .map(|c| match memory.binary_search_by(|w| w.key.cmp(&c.key)) {
-            Ok(i) => Memory { normal: memory[i].normal, friction: memory[i].friction, approach: memory[i].approach },
+            Ok(i) => Memory {
+                normal: memory[i].normal,
+                friction: memory[i].friction,
+                torque: memory[i].torque,
+                approach: memory[i].approach,
+            },
             Err(_) => Memory::default(),
         })
         .collect()
