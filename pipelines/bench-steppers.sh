@@ -12,9 +12,9 @@
 # CPU ratio to the yardstick when there is one, and for the velocity-level stepper the contact
 # solve over the last 0.1 s of the run: contact points per pair, the share of loaded contacts
 # warm started and the share of steps whose solve converged; then two overlaps in % of dpv:
-# pen_%, the engine's largest penetration over the whole run (pack's "max penetration" line),
-# and olap_%, the deepest pellet-pellet overlap of the settled bed measured independently on
-# the exact shapes (voidprof --structure: deepest_overlap_dpv).
+# pen_%, the engine's deepest penetration in the bed as written (pack's "% at the end"), and
+# olap_%, the deepest pellet-pellet overlap of the same bed measured independently on the
+# exact shapes (voidprof --structure: deepest_overlap_dpv).
 set -euo pipefail
 BIN=${1:-target/release}
 CASES=${2:-sph690 cyl40}
@@ -48,7 +48,7 @@ print("%.4f %s" % (s["bulk_porosity"], "-" if o is None else "%.3f" % (100 * o))
     read -r porosity olap <<<"$measured"
   fi
   local pen
-  pen=$(sed -n 's/.*max penetration \([0-9.]*\) % of dpv.*/\1/p' "$work/pack.log")
+  pen=$(sed -n 's/.*, \([0-9.]*\) % at the end;.*/\1/p' "$work/pack.log")
   local ratio=-
   [ -n "$yard" ] && ratio=$(awk -v a="$cpu" -v b="$yard" 'BEGIN{printf "%.2f", a / b}')
   local solve
