@@ -11,7 +11,10 @@
 # Prints per run: case, stepper, seed, CPU s (user + system), settle time, porosity, the
 # CPU ratio to the yardstick when there is one, and for the velocity-level stepper the contact
 # solve over the last 0.1 s of the run: contact points per pair, the share of loaded contacts
-# warm started and the share of steps whose solve converged.
+# warm started and the share of steps whose solve converged; then two overlaps in % of dpv:
+# pen_%, the engine's deepest penetration in the bed as written (pack's "% at the end"), and
+# olap_%, the deepest pellet-pellet overlap of the same bed measured independently on the
+# exact shapes (voidprof --structure: deepest_overlap_dpv).
 set -euo pipefail
 BIN=${1:-target/release}
 CASES=${2:-sph690 cyl40}
@@ -34,23 +37,29 @@ one() {  # label pellet tube count seed stepper window yard
   local t="$work/time" out="$work/run"
   /usr/bin/time -f "%U %S" -o "$t" "$BIN/pack" --pellet "$work/$pellet" --tube-diameter "$tube" --count "$count" \
     --scheme batch --seed "$seed" --stepper "$stepper" -o "$out.mcap" >"$work/pack.log" 2>&1 || true
-  local cpu settled porosity
+  local cpu settled
   cpu=$(awk '{printf "%.2f", $1 + $2}' "$t")
   settled=$(grep -o 'settled at [0-9.]* s' "$work/pack.log" | awk '{print $3}')
-  porosity=$("$BIN/settle-check" "$out.mcap" -o "$out.packing" >/dev/null 2>&1 &&
-    "$BIN/voidprof" "$out.packing" --window "$window" --summary - -o /dev/null 2>/dev/null |
-    python3 -c 'import json,sys; print("%.4f" % json.load(sys.stdin)["bulk_porosity"])' || echo -)
+  local porosity=- olap=- measured
+  if measured=$("$BIN/settle-check" "$out.mcap" -o "$out.packing" >/dev/null 2>&1 &&
+    "$BIN/voidprof" "$out.packing" --window "$window" --structure --summary - -o /dev/null 2>/dev/null |
+    python3 -c 'import json,sys; s=json.load(sys.stdin); o=s["deepest_overlap_dpv"]
+print("%.4f %s" % (s["bulk_porosity"], "-" if o is None else "%.3f" % (100 * o)))'); then
+    read -r porosity olap <<<"$measured"
+  fi
+  local pen
+  pen=$(sed -n 's/.*, \([0-9.]*\) % at the end;.*/\1/p' "$work/pack.log")
   local ratio=-
   [ -n "$yard" ] && ratio=$(awk -v a="$cpu" -v b="$yard" 'BEGIN{printf "%.2f", a / b}')
   local solve
   solve=$(sed -n 's/.*: \([0-9.]*\) contact points a pair, \([0-9.]*\) % of loaded.*, \([0-9.]*\) % of.*/\1 \2 \3/p' "$work/pack.log")
   [ -n "$solve" ] || solve="- - -"
   # shellcheck disable=SC2086
-  printf "%-7s %-12s %4s %8s %9s %8s %7s %9s %7s %7s\n" "$label" "$stepper" "$seed" "$cpu" "${settled:-unsettled}" \
-    "$porosity" "$ratio" $solve
+  printf "%-7s %-12s %4s %8s %9s %8s %7s %9s %7s %7s %7s %7s\n" "$label" "$stepper" "$seed" "$cpu" "${settled:-unsettled}" \
+    "$porosity" "$ratio" $solve "${pen:--}" "$olap"
 }
 
-printf "%-7s %-12s %4s %8s %9s %8s %7s %9s %7s %7s\n" case stepper seed cpu_s settle_s porosity ratio pts/pair warm_% conv_%
+printf "%-7s %-12s %4s %8s %9s %8s %7s %9s %7s %7s %7s %7s\n" case stepper seed cpu_s settle_s porosity ratio pts/pair warm_% conv_% pen_% olap_%
 for c in $CASES; do
   case $c in
     sph690)

@@ -52,7 +52,7 @@ section() {  # title, file in DIR, note under the figures
     section 'voidprof on 600 spheres (`cargo run --release -p pellet_analysis --example bench_voidprof`)' voidprof.txt ''
     section 'bedexport'\''s stages on 600 spheres (`cargo run --release -p pellet_export --example bench_export`)' export.txt ''
     section 'The steppers and the peer engines (`pipelines/bench-steppers.sh`)' steppers.txt \
-        'cpu_s: user + system CPU s of `pack`; settle_s: simulated s to settle; ratio: cpu_s over the peer'\''s (yardstick line; ../shared/peers/run.sh) on the same bed; pts/pair, warm_% and conv_%: the velocity stepper'\''s contact solve over the last 0.1 s (contact points a pair, % of loaded contacts warm started, % of steps converged).'
+        'cpu_s: user + system CPU s of `pack`; settle_s: simulated s to settle; ratio: cpu_s over the peer'\''s (yardstick line; ../shared/peers/run.sh) on the same bed; pts/pair, warm_% and conv_%: the velocity stepper'\''s contact solve over the last 0.1 s (contact points a pair, % of loaded contacts warm started, % of steps converged); pen_%: the engine'\''s largest penetration over the run (% of dpv, pack'\''s log); olap_%: the deepest pellet-pellet overlap of the settled bed on the exact shapes (% of dpv, `voidprof --structure`, independent of the engine).'
     section 'The velocity-level stepper and rapier (`STEPPERS=velocity pipelines/bench-steppers.sh BIN "ring256 cyl620"`)' peers.txt \
         'The same columns; the yardsticks are rapier 0.36 pouring the same beds (../shared/peers/run.sh rapier-256-rings, rapier-620).'
 } >"$tmp"

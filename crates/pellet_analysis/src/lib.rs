@@ -17,6 +17,8 @@
 //!   part twice; the profile takes the union along each line and does not.
 //! - [`coordination`] and [`orientation`]: contacts per pellet and the
 //!   distribution of the angle between pellet axes and the tube axis.
+//! - [`deepest_overlap`]: the deepest overlap between two pellets and between a
+//!   pellet and the tube, on the exact shapes, independent of the engine.
 //!
 //! ```
 //! use pellet_analysis::{bulk_porosity, void_profile, Geometry, ProfileParams};
@@ -37,6 +39,7 @@
 pub mod average;
 pub mod clip;
 pub mod line;
+pub mod overlap;
 pub mod profile;
 pub mod raster;
 pub mod refine;
@@ -45,6 +48,7 @@ pub mod synthetic;
 
 pub use average::{average_profiles, ProfileStats};
 pub use line::{Geometry, LineCaster};
+pub use overlap::{deepest_overlap, Boundary, BoundaryOverlap, DeepestOverlap, Overlap};
 pub use profile::{check_window, void_profile, AxialProfile, ProfileParams, VoidProfile};
 pub use structure::{coordination, orientation, overlapping_pairs, Coordination, OrientationHistogram};
 

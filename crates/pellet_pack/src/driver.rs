@@ -86,8 +86,11 @@ pub struct RunSummary {
     pub pellets: u32,
     /// The settle test's verdict at the end.
     pub settle: SettleReport,
-    /// Largest penetration seen (m).
+    /// Largest penetration seen (m): the deepest a step's motion took a contact before
+    /// position projection.
     pub max_penetration_m: f64,
+    /// The deepest penetration left after the last step (m), the bed's as written.
+    pub end_penetration_m: f64,
     /// Engine substeps taken.
     pub substeps: u64,
     /// The contact solve over the last `SOLVER_WINDOW_S` simulated (of the part of the run
@@ -240,6 +243,7 @@ pub fn resume_pack(
         impulses: pipeline.warm_impulses(),
     };
     let mut recent: std::collections::VecDeque<(f64, SolverStats)> = Default::default();
+    let mut end_penetration: f64;
     let ending = loop {
         let t = world.time();
         if config.checkpoint_every_s > 0.0 && t + 1e-12 >= run.next_checkpoint {
@@ -290,6 +294,7 @@ pub fn resume_pack(
             recent.pop_front();
         }
         run.max_penetration = run.max_penetration.max(report.max_penetration);
+        end_penetration = report.max_penetration_after_projection;
         run.substeps += report.substeps as u64;
         let ledger = world.energy();
         let max_speed = world.bodies().iter().map(|b| b.velocity().norm()).fold(0.0, f64::max);
@@ -356,6 +361,7 @@ pub fn resume_pack(
         pellets: world.bodies().len() as u32,
         settle,
         max_penetration_m: run.max_penetration,
+        end_penetration_m: end_penetration,
         substeps: run.substeps,
         solver: recent.iter().fold(SolverStats::default(), |mut a, (_, s)| {
             a.add(s);

@@ -398,11 +398,12 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     };
     let path = writer.finish()?;
     let line = format!(
-        "pack: {} pellets, {:.3} s simulated, {} engine substeps, max penetration {:.2} % of dpv; wrote {}",
+        "pack: {} pellets, {:.3} s simulated, {} engine substeps, max penetration {:.2} % of dpv, {:.3} % at the end; wrote {}",
         summary.pellets,
         summary.time_s,
         summary.substeps,
         100.0 * summary.max_penetration_m / pellet.properties.equivalent_diameter,
+        100.0 * summary.end_penetration_m / pellet.properties.equivalent_diameter,
         path.display()
     );
     if !args.quiet {

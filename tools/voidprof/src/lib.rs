@@ -10,8 +10,9 @@ use anyhow::{bail, Context};
 use clap::Parser;
 
 use pellet_analysis::{
-    average_profiles, bulk_porosity, coordination, orientation, reference_diameters, void_profile, BulkPorosity,
-    Coordination, Geometry, OrientationHistogram, ProfileParams, ProfileStats, VoidProfile,
+    average_profiles, bulk_porosity, coordination, deepest_overlap, orientation, reference_diameters, void_profile,
+    BulkPorosity, Coordination, DeepestOverlap, Geometry, OrientationHistogram, ProfileParams, ProfileStats,
+    VoidProfile,
 };
 use pellet_cli::{mm_in_range, parse_window, positive_mm, Outcome};
 use pellet_geom::{Bed, Tube};
@@ -80,7 +81,9 @@ pub struct Args {
     /// The radial profile of every bed with mean, standard deviation, min and max, as CSV.
     #[arg(long)]
     pub spread: Option<String>,
-    /// Add the coordination number and the orientation of pellet axes to the summary.
+    /// Add the coordination number, the orientation of pellet axes and the deepest overlap
+    /// between two pellets and between a pellet and the tube (mm and fraction of dpv, over
+    /// the whole bed, on the exact shapes) to the summary.
     #[arg(long)]
     pub structure: bool,
     /// Draw ε against (R − r)/dp to this file (.png or .svg; repeat for both); the plot marks
@@ -106,6 +109,8 @@ pub struct BedResult {
     pub coordination: Option<Coordination>,
     /// Axis orientations, with --structure and an axial shape.
     pub orientation: Option<OrientationHistogram>,
+    /// The deepest overlaps of the whole bed, with --structure and a closed-form shape.
+    pub overlap: Option<DeepestOverlap>,
 }
 
 /// Everything `voidprof` reports: each bed and the mean over the beds.
@@ -277,12 +282,17 @@ pub fn measure(args: &Args, beds: Vec<(String, Bed)>) -> anyhow::Result<Measurem
             other => anyhow::anyhow!("{source}: {other}"),
         })?;
         let bulk = bulk_porosity(&bed, window, geometry).with_context(|| source.clone())?;
-        let (coordination, orientation) = if args.structure {
-            (coordination(&bed, window, gap.unwrap_or(dp / 100.0)), orientation(&bed, window, 10.0))
+        let (coordination, orientation, overlap) = if args.structure {
+            (
+                coordination(&bed, window, gap.unwrap_or(dp / 100.0)),
+                orientation(&bed, window, 10.0),
+                deepest_overlap(&bed),
+            )
         } else {
-            (None, None)
+            (None, None, None)
         };
-        results.push(BedResult { source, pellets: bed.pellets.len(), profile, bulk, coordination, orientation });
+        let pellets = bed.pellets.len();
+        results.push(BedResult { source, pellets, profile, bulk, coordination, orientation, overlap });
     }
     let profiles: Vec<VoidProfile> = results.iter().map(|b| b.profile.clone()).collect();
     let stats = average_profiles(&profiles)?;

@@ -99,6 +99,7 @@ pub fn summary(m: &Measurement) -> Value {
                     "histogram": c.histogram,
                     "contact_gap_mm": c.gap * 1e3,
                 })),
+                "deepest_overlap": b.overlap.as_ref().map(|o| overlap_json(o, m.dpv)),
                 "orientation": b.orientation.as_ref().map(|o| json!({
                     "edges_deg": o.edges_deg,
                     "counts": o.counts,
@@ -109,6 +110,12 @@ pub fn summary(m: &Measurement) -> Value {
             })
         })
         .collect();
+    // The deepest pellet–pellet overlap over the beds (0 when none overlap), when measured.
+    let deepest = m
+        .beds
+        .iter()
+        .filter_map(|b| b.overlap)
+        .fold(None, |acc: Option<f64>, o| Some(acc.unwrap_or(0.0).max(o.pellets.map_or(0.0, |p| p.depth))));
     json!({
         "tool": "voidprof",
         "version": env!("CARGO_PKG_VERSION"),
@@ -130,7 +137,30 @@ pub fn summary(m: &Measurement) -> Value {
         "geometry": if m.mesh { "mesh" } else { "exact shape where known, else mesh" },
         "resolution_mm": { "radial_step": dr * 1e3, "arc_step": arc * 1e3, "axial_step": dz * 1e3 },
         "profile_std_max": m.stats.std.iter().copied().fold(0.0, f64::max),
+        "deepest_overlap_mm": deepest.map(|d| d * 1e3),
+        "deepest_overlap_dpv": deepest.map(|d| d / m.dpv),
         "per_bed": beds,
+    })
+}
+
+/// One bed's deepest overlaps: between two pellets (0 and no pellets when none overlap)
+/// and between a pellet and the tube (null when none pokes out), in mm and in dpv.
+fn overlap_json(o: &pellet_analysis::DeepestOverlap, dpv: f64) -> Value {
+    let mm = |p: &pellet_geom::math::Point| [p.x * 1e3, p.y * 1e3, p.z * 1e3];
+    let depth = o.pellets.map_or(0.0, |p| p.depth);
+    json!({
+        "depth_mm": depth * 1e3,
+        "depth_dpv": depth / dpv,
+        "pellets": o.pellets.map(|p| [p.pellets.0, p.pellets.1]),
+        "point_mm": o.pellets.map(|p| mm(&p.point)),
+        "candidate_pairs": o.candidate_pairs,
+        "tube": o.boundary.map(|b| json!({
+            "depth_mm": b.depth * 1e3,
+            "depth_dpv": b.depth / dpv,
+            "boundary": b.boundary.name(),
+            "pellet": b.pellet,
+            "point_mm": mm(&b.point),
+        })),
     })
 }
 
