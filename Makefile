@@ -48,10 +48,10 @@ fuzz:
 test-slurm: build
 	sh tests/slurm/test.sh $(BIN)
 
-# bedexport --openfoam meshed for real: a 20-sphere and a 20-cylinder bed through surfaceCheck
-# (pellets.stl closed, not self-intersecting), blockMesh, surfaceFeatureExtract, snappyHexMesh
-# and checkMesh, then simpleFoam on the sphere bed, its pressure drop against Ergun's
-# (tests/openfoam/test.sh;
+# bedexport --openfoam meshed for real: a 20-sphere, a 20-cylinder and a 20-ring bed through
+# surfaceCheck (pellets.stl closed, not self-intersecting), blockMesh, surfaceFeatureExtract,
+# snappyHexMesh and checkMesh, then simpleFoam on the sphere bed, its pressure drop against
+# Ergun's (tests/openfoam/test.sh; about 14 min on one core; BEDS="spheres rings" picks beds;
 # installs Debian's openfoam package when missing, fails when it cannot).
 test-openfoam: build
 	sh tests/openfoam/test.sh $(BIN)

@@ -85,6 +85,9 @@ pub struct Treated {
     pub meshes: Vec<TriMesh>,
     /// The bridges, if any.
     pub bridges: Vec<Bridge>,
+    /// The contacts treated: those the bridges or caps treat, else those a shrink opens (found
+    /// below `detect_gap` on the untreated bed); empty for no treatment.
+    pub contacts: Vec<Contact>,
     /// What was done.
     pub report: TreatmentReport,
 }
@@ -136,6 +139,7 @@ pub fn apply(
         ));
     }
     let mut treated_bed = bed.clone();
+    let mut treated_contacts = Vec::new();
     if let Some(f) = treatment.shrink {
         if !(0.5..=1.0).contains(&f) {
             return Err(ExportError::BadParameter(format!(
@@ -159,6 +163,7 @@ pub fn apply(
             porosity_change: removed / range_volume,
             parameters: format!("factor {f}; contacts counted below a gap of {:.4} mm", detect_gap * 1e3),
         });
+        treated_contacts = opened;
     }
     let mut meshes: Vec<TriMesh> = indices
         .iter()
@@ -191,6 +196,7 @@ pub fn apply(
                 diameter * 1e3
             ),
         });
+        treated_contacts = contacts;
     }
     if let Some(gap) = treatment.caps {
         positive("the cap gap", gap)?;
@@ -226,8 +232,9 @@ pub fn apply(
             porosity_change: (before - after) / range_volume,
             parameters: format!("surfaces closer than {:.4} mm cut flat to leave {:.4} mm", gap * 1e3, gap * 1e3),
         });
+        treated_contacts = contacts;
     }
-    Ok(Treated { meshes, bridges, report })
+    Ok(Treated { meshes, bridges, contacts: treated_contacts, report })
 }
 
 fn positive(what: &str, value: Real) -> Result<(), ExportError> {

@@ -20,6 +20,40 @@ pub use openfoam::CaseTreatment;
 
 const MM: f64 = 1e-3;
 
+/// The default gap of a contact treatment, in units of dp: caps leave it, bridges join surfaces
+/// closer than it, a shrink opens touching pellets by it. Contact studies size caps and gaps at
+/// about 1–2 % of dp (tools/bedexport/README.md, "Contact treatments").
+pub const DEFAULT_GAP: f64 = 0.01;
+
+/// The default bridge diameter, in units of dp (bridges of 10–20 % of dp in the literature).
+pub const DEFAULT_BRIDGE_DIAMETER: f64 = 0.15;
+
+/// The largest porosity change (absolute, as printed) a treatment makes without a warning.
+pub const MAX_POROSITY_CHANGE: f64 = 0.01;
+
+/// Warns on stderr, one line per treatment, when a treatment changes the porosity by more than
+/// [`MAX_POROSITY_CHANGE`], with the figure and the flag that reduces it.
+pub(crate) fn warn_porosity(report: &treatment::TreatmentReport, dp: f64, quiet: bool) {
+    for line in &report.lines {
+        if quiet || line.porosity_change.abs() <= MAX_POROSITY_CHANGE {
+            continue;
+        }
+        let how = match line.name {
+            "caps" => format!("a smaller --cap-gap reduces it (default dp/100 = {:.4} mm)", DEFAULT_GAP * dp / MM),
+            "bridges" => format!(
+                "a smaller --bridge-diameter or --bridge-gap reduces it (defaults {:.4} mm and {:.4} mm: 0.15 dp and dp/100)",
+                DEFAULT_BRIDGE_DIAMETER * dp / MM,
+                DEFAULT_GAP * dp / MM
+            ),
+            _ => format!("a --shrink closer to 1 reduces it, or --treatment caps (a gap of dp/100 = {:.4} mm changes it far less)", DEFAULT_GAP * dp / MM),
+        };
+        eprintln!(
+            "bedexport: warning: {} change the porosity by {:+.5}, more than {MAX_POROSITY_CHANGE}; {how}",
+            line.name, line.porosity_change
+        );
+    }
+}
+
 const EXAMPLES: &str = "\
 Examples:
   bedexport bed.packing --stl bed.stl --tube-stl tube.stl
@@ -132,7 +166,7 @@ pub struct Args {
     /// Join surfaces closer than this gap (mm, up to dp/5) with cylindrical bridges.
     #[arg(long, value_name = "MM", conflicts_with = "cap_gap")]
     pub bridge_gap: Option<f64>,
-    /// Diameter of the bridges (mm, up to dp/2) [default: dp/5].
+    /// Diameter of the bridges (mm, up to dp/2) [default: 0.15 dp].
     #[arg(long, value_name = "MM", requires = "bridge_gap")]
     pub bridge_diameter: Option<f64>,
     /// Cut surfaces closer than this gap (mm, up to dp/5) flat so that this gap remains (caps).
@@ -154,7 +188,8 @@ pub struct Args {
     /// With --openfoam: empty tube above the bed top (mm, 0 to 100 dp) [default: dp].
     #[arg(long, value_name = "MM", requires = "openfoam")]
     pub outlet: Option<f64>,
-    /// With --openfoam: the contact treatment, sized to two cells unless --cap-gap, --bridge-gap or --shrink is given [default: caps].
+    /// With --openfoam: the contact treatment, gaps of dp/100 and bridges of 0.15 dp unless --cap-gap, --bridge-gap,
+    /// --bridge-diameter or --shrink is given, with the cells refined at the contacts to fit the gap [default: caps].
     #[arg(long, value_enum, requires = "openfoam")]
     pub treatment: Option<CaseTreatment>,
     /// With --openfoam: the particle Reynolds number Re_p = ρ u_s dp / μ of the steady laminar
@@ -281,7 +316,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         );
     }
     let bridge_gap = optional("--bridge-gap", args.bridge_gap)?;
-    let bridge_diameter = optional("--bridge-diameter", args.bridge_diameter)?.unwrap_or(dp / 5.0);
+    let bridge_diameter = optional("--bridge-diameter", args.bridge_diameter)?.unwrap_or(DEFAULT_BRIDGE_DIAMETER * dp);
     let plan = Treatment {
         shrink: args.shrink,
         bridges: bridge_gap.map(|g| (g, bridge_diameter)),
@@ -289,6 +324,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
     };
     let contact_gap = optional("--contact-gap", args.contact_gap)?.unwrap_or(dp / 100.0);
     let treated = treatment::apply(&bed, &selected, range, &plan, contact_gap)?;
+    warn_porosity(&treated.report, dp, args.quiet);
     let scale = args.units.scale();
     let unit = args.units.name();
     let provenance = format!("packbed bedexport {} from {}, unit {unit}", env!("CARGO_PKG_VERSION"), args.packing);

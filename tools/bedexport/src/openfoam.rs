@@ -1,6 +1,6 @@
 //! `bedexport --openfoam DIR`: the bed as an OpenFOAM case that meshes as
-//! it is (pellet_export::openfoam), with the contact treatment sized
-//! against the cell size.
+//! it is (pellet_export::openfoam), with the contact treatment sized by the
+//! literature's fractions of dp and the cells refined at the contacts to fit it.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -24,11 +24,11 @@ const DEFAULT_REYNOLDS: f64 = 10.0;
 /// The contact treatment of an OpenFOAM case.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum CaseTreatment {
-    /// Cut surfaces closer than --cap-gap [default: two cells] flat so that gap remains.
+    /// Cut surfaces closer than --cap-gap [default: dp/100] flat so that gap remains.
     Caps,
-    /// Join surfaces closer than --bridge-gap [default: two cells] with cylinders.
+    /// Join surfaces closer than --bridge-gap [default: dp/100] with cylinders of --bridge-diameter [default: 0.15 dp].
     Bridges,
-    /// Shrink every pellet by --shrink [default: opens touching pellets by two cells].
+    /// Shrink every pellet by --shrink [default: 0.99, opening touching pellets by dp/100].
     Shrink,
     /// The pellets as they are (touching points left to snappyHexMesh).
     None,
@@ -63,20 +63,9 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64, dpv: f64) -> anyhow::Resu
     let outlet = length("--outlet", args.outlet)?;
     let top = bed_top(bed);
     let (z0, z1) = (-inlet, top + outlet);
-    let warn = |text: String| {
+    let note = |text: String| {
         if !args.quiet {
-            eprintln!("bedexport: warning: {text}");
-        }
-    };
-    let narrow = |flag: &str, gap: f64| {
-        if gap < cell {
-            warn(format!(
-                "{flag} {:.4} mm is narrower than a cell ({:.4} mm) and snappyHexMesh closes it; the smallest useful value is {:.4} mm (the default, two cells, keeps the meshed volume within 2 %: {:.4} mm)",
-                gap / MM,
-                cell / MM,
-                cell / MM,
-                2.0 * cell / MM
-            ));
+            eprintln!("bedexport: note: {text}");
         }
     };
     let chosen = args.treatment.unwrap_or(CaseTreatment::Caps);
@@ -91,26 +80,27 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64, dpv: f64) -> anyhow::Resu
             format!("{needs:?}").to_lowercase()
         );
     }
-    let plan = match chosen {
+    // The defaults are the literature's, in units of dp and independent of the cells (see
+    // crate::DEFAULT_GAP); each leaves a gap of DEFAULT_GAP dp where pellets touched, which
+    // the contact refinement below resolves. `gap` is the fluid gap the cells must fit.
+    let (plan, gap, bridge_diameter) = match chosen {
         CaseTreatment::Caps => {
-            let gap = mm("--cap-gap", args.cap_gap)?.unwrap_or(2.0 * cell);
-            narrow("--cap-gap", gap);
-            Treatment { caps: Some(gap), ..Treatment::default() }
+            let gap = mm("--cap-gap", args.cap_gap)?.unwrap_or(crate::DEFAULT_GAP * dp);
+            (Treatment { caps: Some(gap), ..Treatment::default() }, Some(gap), 0.0)
         }
         CaseTreatment::Bridges => {
-            let gap = mm("--bridge-gap", args.bridge_gap)?.unwrap_or(2.0 * cell);
-            let diameter = mm("--bridge-diameter", args.bridge_diameter)?.unwrap_or((dp / 5.0).max(2.0 * cell));
-            narrow("--bridge-gap", gap);
-            narrow("--bridge-diameter", diameter);
-            Treatment { bridges: Some((gap, diameter)), ..Treatment::default() }
+            let gap = mm("--bridge-gap", args.bridge_gap)?.unwrap_or(crate::DEFAULT_GAP * dp);
+            let diameter =
+                mm("--bridge-diameter", args.bridge_diameter)?.unwrap_or(crate::DEFAULT_BRIDGE_DIAMETER * dp);
+            (Treatment { bridges: Some((gap, diameter)), ..Treatment::default() }, Some(gap), diameter)
         }
         CaseTreatment::Shrink => {
-            let factor = args.shrink.unwrap_or(1.0 - 2.0 * cell / dp);
+            let factor = args.shrink.unwrap_or(1.0 - crate::DEFAULT_GAP);
             // Touching pellets open by dp (1 − factor).
-            narrow("the gap --shrink opens,", dp * (1.0 - factor));
-            Treatment { shrink: Some(factor), ..Treatment::default() }
+            let gap = dp * (1.0 - factor);
+            (Treatment { shrink: Some(factor), ..Treatment::default() }, (gap > 0.0).then_some(gap), 0.0)
         }
-        CaseTreatment::None => Treatment::default(),
+        CaseTreatment::None => (Treatment::default(), None, 0.0),
     };
     let selected: Vec<usize> = (0..bed.pellets.len()).collect();
     let contact_gap = mm("--contact-gap", args.contact_gap)?.unwrap_or(dp / 100.0);
@@ -122,6 +112,30 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64, dpv: f64) -> anyhow::Resu
     let location = openfoam::location_in_mesh(&surfaces, radius, z0, z1, 2.0 * cell)
         .context("found no fluid point in the tube for locationInMesh")?;
     let g = CaseGeometry { radius, z0, z1, cell, location };
+    // The cells fit the treatment: a sphere around each treated contact refined so that its
+    // cells are no wider than the gap (capped at MAX_CONTACT_LEVEL). Its radius covers the fluid
+    // thinner than about twice the gap between two touching spheres of dp beyond the bridge's
+    // rim: there the surfaces are 2 r² / dp + gap apart, so r² = dp gap + (d / 2)².
+    let (refine, capped) = match gap {
+        Some(gap) if !treated.contacts.is_empty() => {
+            let (level, capped) = openfoam::contact_level(cell, gap);
+            let r = (dp * gap + 0.25 * bridge_diameter * bridge_diameter).sqrt();
+            let spheres = treated.contacts.iter().map(|c| (c.midpoint(), r)).collect();
+            (openfoam::ContactRefinement { level, spheres }, capped.then_some(gap))
+        }
+        _ => (openfoam::ContactRefinement::default(), None),
+    };
+    if let Some(gap) = capped {
+        let fine = 2.0 * cell / f64::from(1u32 << refine.level);
+        note(format!(
+            "the contacts' cells are {:.4} mm (--cell-size {:.4} mm refined {} levels, the most this writes), wider than the treatment's gap {:.4} mm: snappyHexMesh may close the gap; a smaller --cell-size or a wider gap fits them",
+            fine / MM,
+            cell / MM,
+            refine.level,
+            gap / MM
+        ));
+    }
+    crate::warn_porosity(&treated.report, dp, args.quiet);
     let tube = tube_mesh(radius, z0, z1, args.tube_segments);
     let tube_volume = enclosed_volume(&tube);
     // One solid for the mesher: pellets that touch or overlap, and the
@@ -169,7 +183,7 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64, dpv: f64) -> anyhow::Resu
         ("system/controlDict", openfoam::control_dict(&flow).into_bytes()),
         ("system/blockMeshDict", openfoam::block_mesh_dict(&g).into_bytes()),
         ("system/surfaceFeatureExtractDict", openfoam::surface_feature_extract_dict().into_bytes()),
-        ("system/snappyHexMeshDict", openfoam::snappy_hex_mesh_dict(&g).into_bytes()),
+        ("system/snappyHexMeshDict", openfoam::snappy_hex_mesh_dict(&g, &refine).into_bytes()),
         ("system/meshQualityDict", openfoam::mesh_quality_dict().into_bytes()),
         ("system/fvSchemes", openfoam::fv_schemes().into_bytes()),
         ("system/fvSolution", openfoam::fv_solution().into_bytes()),
@@ -202,6 +216,17 @@ pub fn run(args: &Args, dir: &str, bed: &Bed, dp: f64, dpv: f64) -> anyhow::Resu
             line.floor_contacts,
             line.porosity_change,
             line.parameters
+        );
+    }
+    if !refine.spheres.is_empty() {
+        let _ = writeln!(
+            s,
+            "contact refinement: {} spheres of radius {:.4} mm at level {} (cells {:.4} mm; the treatment's gap {:.4} mm)",
+            refine.spheres.len(),
+            refine.spheres[0].1 / MM,
+            refine.level,
+            2.0 * cell / f64::from(1u32 << refine.level) / MM,
+            gap.unwrap_or(0.0) / MM
         );
     }
     let joined = if bridges > 0 { format!(" and {bridges} bridges") } else { String::new() };
