@@ -461,18 +461,22 @@ mod tests {
         let engine = |o: PackOptions| crate::driver::engine_params(&PackConfig::resolve(&o).unwrap());
         // Defaults: εp = εf = 5e-3 m/s, the engine's substep cap, each model's own rule.
         let rec = engine(base());
-        assert_eq!((rec.eps_p, rec.eps_f, rec.dt_cap), (5e-3, 5e-3, 2.5e-4));
-        assert_eq!(rec.friction_clamp, FrictionClamp::Stick);
+        assert_eq!((rec.eps_p, rec.acceleration.eps_f, rec.acceleration.dt_cap), (5e-3, 5e-3, 2.5e-4));
+        assert_eq!(rec.acceleration.friction_clamp, FrictionClamp::Stick);
         let paper = engine(PackOptions { contact_model: Some(ContactModel::Paper), ..base() });
-        assert_eq!(paper.friction_clamp, FrictionClamp::Zero);
+        assert_eq!(paper.acceleration.friction_clamp, FrictionClamp::Zero);
         // A narrower band lowers the cap to εp / 2g; a wider one keeps the engine's.
         let narrow = engine(PackOptions { resting_band: Some(2.5e-3), ..base() });
-        assert_eq!((narrow.eps_p, narrow.eps_f), (2.5e-3, 2.5e-3));
-        assert!((narrow.dt_cap - 2.5e-3 / (2.0 * 9.81)).abs() < 1e-15, "{}", narrow.dt_cap);
-        assert_eq!(engine(PackOptions { resting_band: Some(1e-2), ..base() }).dt_cap, 2.5e-4);
+        assert_eq!((narrow.eps_p, narrow.acceleration.eps_f), (2.5e-3, 2.5e-3));
+        let cap = narrow.acceleration.dt_cap;
+        assert!((cap - 2.5e-3 / (2.0 * 9.81)).abs() < 1e-15, "{cap}");
+        assert_eq!(engine(PackOptions { resting_band: Some(1e-2), ..base() }).acceleration.dt_cap, 2.5e-4);
         let zero = engine(PackOptions { friction_clamp: Some(ClampRule::Zero), ..base() });
-        assert_eq!(zero.friction_clamp, FrictionClamp::Zero);
-        assert!(zero.static_friction && zero.velocity_bias, "the rest of the recommended model stays");
+        assert_eq!(zero.acceleration.friction_clamp, FrictionClamp::Zero);
+        assert!(
+            zero.acceleration.static_friction && zero.acceleration.velocity_bias,
+            "the rest of the recommended model stays"
+        );
     }
 
     #[test]

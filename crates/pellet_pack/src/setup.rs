@@ -4,8 +4,8 @@
 
 use pellet_geom::{ClosedForm, Pellet};
 use pellet_sim::{
-    BodyType, Container, EngineParams, FrictionClamp, IterativeSolver, Material, ShapeDesc, VelocityParams,
-    WallMaterial, World,
+    AccelerationParams, BodyType, Container, EngineParams, FrictionClamp, IterativeSolver, Material, ShapeDesc,
+    VelocityParams, WallMaterial, World,
 };
 
 use crate::config::{ClampRule, ContactModel, PackConfig};
@@ -129,7 +129,7 @@ pub fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_
     let wall = WallMaterial { cor: config.wall_cor, friction: config.wall_friction };
     let mut params = engine_params(config);
     if pellet.is_sphere() {
-        params.iterative_solver = IterativeSolver::Mprgp;
+        params.acceleration.iterative_solver = IterativeSolver::Mprgp;
     }
     let mut world =
         World::new(Container::tube(config.tube_diameter_m).map_err(setup)?, material, wall, params).map_err(setup)?;
@@ -154,16 +154,19 @@ pub fn engine_params(config: &PackConfig) -> EngineParams {
     let friction_clamp = match config.friction_clamp {
         Some(ClampRule::Stick) => FrictionClamp::Stick,
         Some(ClampRule::Zero) => FrictionClamp::Zero,
-        None => base.friction_clamp,
+        None => base.acceleration.friction_clamp,
     };
     EngineParams {
-        exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS,
-        exact_fallback_max_rows: EXACT_FALLBACK_MAX_ROWS,
         eps_p: eps,
-        eps_f: eps,
-        dt_cap: base.dt_cap.min(0.5 * eps / g),
-        friction_clamp,
         stepper: config.stepper,
+        acceleration: AccelerationParams {
+            exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS,
+            exact_fallback_max_rows: EXACT_FALLBACK_MAX_ROWS,
+            eps_f: eps,
+            dt_cap: base.acceleration.dt_cap.min(0.5 * eps / g),
+            friction_clamp,
+            ..base.acceleration
+        },
         velocity: VelocityParams { patch_radius: config.contact_patch_dp, ..base.velocity },
         ..base
     }

@@ -46,16 +46,16 @@ fn restart_from_a_frame() {
     });
     let mut params = pellet_pack::engine_params(&config);
     if let Ok(v) = std::env::var("EXACT_FALLBACK") {
-        params.exact_fallback_max_rows = v.parse().unwrap();
+        params.acceleration.exact_fallback_max_rows = v.parse().unwrap();
     }
     if let Ok(v) = std::env::var("APGD_IT") {
-        params.apgd_max_iterations = v.parse().unwrap();
+        params.acceleration.apgd_max_iterations = v.parse().unwrap();
     }
     if let Ok(v) = std::env::var("PGS_IT") {
-        params.pgs_max_iterations = v.parse().unwrap();
+        params.acceleration.pgs_max_iterations = v.parse().unwrap();
     }
     if let Ok(v) = std::env::var("TOL") {
-        params.solver_tolerance_factor = v.parse().unwrap();
+        params.acceleration.solver_tolerance_factor = v.parse().unwrap();
     }
     if std::env::var("VELOCITY").is_ok() {
         params.stepper = pellet_sim::Stepper::Velocity;
@@ -71,7 +71,7 @@ fn restart_from_a_frame() {
     }
 
     if std::env::var("PGS_ONLY").is_ok() {
-        params.iterative_solver = pellet_sim::IterativeSolver::Pgs;
+        params.acceleration.iterative_solver = pellet_sim::IterativeSolver::Pgs;
     }
     let poses: Vec<([f64; 3], [f64; 4])> =
         frame.positions.iter().copied().zip(frame.orientations.iter().copied()).collect();

@@ -23,7 +23,8 @@
 //! pour needs), and where the wall time went: narrow phase, collision phase, resting phase, position projection.
 
 use pellet_sim::{
-    BodyType, Container, EngineParams, IterativeSolver, Material, Pipeline, Quat, Vec3, WallMaterial, World,
+    AccelerationParams, BodyType, Container, EngineParams, IterativeSolver, Material, Pipeline, Quat, Vec3,
+    WallMaterial, World,
 };
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -52,28 +53,30 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
     let eps = if kind == "ring" { 0.55 } else { 0.4 };
     let tube_d = tube_mm.map_or_else(|| tube_for(n, ty.volume_m3, eps), |d| d * 1e-3);
     let rb = ty.bounding_radius_m;
+    let base = match std::env::var("PELLET_BENCH_MODE").as_deref() {
+        Ok("recommended") => EngineParams::recommended(),
+        _ => EngineParams::default(),
+    };
+    let acceleration = AccelerationParams {
+        exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", 64.0) as usize,
+        exact_fallback_max_rows: env("PELLET_BENCH_EXACT_FALLBACK", 0.0) as usize,
+        solver_tolerance_factor: env("PELLET_BENCH_TOL", 1e-4),
+        coupled_friction_nncg: env("PELLET_BENCH_NNCG", 1.0) != 0.0,
+        iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
+            Ok("pgs") => IterativeSolver::Pgs,
+            Ok("apgd") => IterativeSolver::Apgd,
+            Ok("mprgp") => IterativeSolver::Mprgp,
+            // As `pack`: MPRGP for spheres, APGD for other shapes.
+            _ if kind == "sph" => IterativeSolver::Mprgp,
+            _ => IterativeSolver::Apgd,
+        },
+        ..base.acceleration
+    };
     let mut world = World::new(
         Container::tube(tube_d).expect("tube"),
         Material { density: 2000.0, cor: 0.5, friction: 0.3 },
         WallMaterial { cor: 0.5, friction: 0.3 },
-        EngineParams {
-            exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", 64.0) as usize,
-            exact_fallback_max_rows: env("PELLET_BENCH_EXACT_FALLBACK", 0.0) as usize,
-            solver_tolerance_factor: env("PELLET_BENCH_TOL", 1e-4),
-            coupled_friction_nncg: env("PELLET_BENCH_NNCG", 1.0) != 0.0,
-            iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
-                Ok("pgs") => IterativeSolver::Pgs,
-                Ok("apgd") => IterativeSolver::Apgd,
-                Ok("mprgp") => IterativeSolver::Mprgp,
-                // As `pack`: MPRGP for spheres, APGD for other shapes.
-                _ if kind == "sph" => IterativeSolver::Mprgp,
-                _ => IterativeSolver::Apgd,
-            },
-            ..match std::env::var("PELLET_BENCH_MODE").as_deref() {
-                Ok("recommended") => EngineParams::recommended(),
-                _ => EngineParams::default(),
-            }
-        },
+        EngineParams { acceleration, ..base },
     )
     .expect("world");
     let t = world.register_type(ty).expect("register");

@@ -44,7 +44,8 @@ pub use geometry::contact::{Contact, ContactKey, Counterpart};
 pub use geometry::sdf::SdfGrid;
 pub use math::{Mat3, Quat, Real, Vec3};
 pub use params::{
-    ApproachBound, EngineParams, FrictionClamp, IterativeSolver, Material, Stepper, VelocityParams, WallMaterial,
+    AccelerationParams, ApproachBound, EngineParams, FrictionClamp, IterativeSolver, Material, Stepper, VelocityParams,
+    WallMaterial,
 };
 pub use pipeline::{ContactRecord, EnergyLedger, Pipeline, StepReport, WarmForce, WarmImpulse, World, WorldState};
 pub use shape::{BodyType, ShapeDesc};

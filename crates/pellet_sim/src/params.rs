@@ -53,13 +53,107 @@ pub enum ApproachBound {
 #[serde(rename_all = "kebab-case")]
 pub enum Stepper {
     /// The paper's force-level scheme: substeps of δt = 0.2λ/v_max capped at `dt_cap`, collision
-    /// passes of impulses, then an acceleration-level LCP of the resting contacts.
+    /// passes of impulses, then an acceleration-level LCP of the resting contacts
+    /// ([`AccelerationParams`]).
     #[default]
     Acceleration,
     /// Velocity-level time stepping: one complementarity solve on impulses per step for the
     /// colliding and resting contacts together, steps sized by kinematics
     /// ([`VelocityParams`]).
     Velocity,
+}
+
+/// The force-level stepper's parameters: its substep rule, the collision passes, the resting
+/// contacts' friction model and the complementarity solvers behind both phases. `Default` is the
+/// paper's contact model (dynamic friction only, zero clamp, no velocity bias); the
+/// velocity-level stepper reads none of these.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct AccelerationParams {
+    /// εf: tangential speed below which a contact does not slide, m/s.
+    pub eps_f: Real,
+    /// Upper bound on the substep, s (choose g·cap ≤ εp/2).
+    pub dt_cap: Real,
+    /// Static friction at resting contacts whose slip is below εf (off = paper mode).
+    pub static_friction: bool,
+    /// Clamp rule for friction that would reverse sliding.
+    pub friction_clamp: FrictionClamp,
+    /// Velocity bias at resting contacts: their target zeroes the approach speed within the substep
+    /// and lets an open gap close without force, so they cannot drift (off = paper mode).
+    pub velocity_bias: bool,
+    /// Collision passes before the final e = 0 solve.
+    pub collision_pass_cap: u32,
+    /// Largest island solved by Baraff's exact method.
+    pub exact_solver_max_rows: usize,
+    /// Largest island that Baraff solves again when the iterative solver ends unconverged
+    /// (0: never). Serialised parameters from before it existed read as 0.
+    #[serde(default)]
+    pub exact_fallback_max_rows: usize,
+    /// Solver for larger islands.
+    pub iterative_solver: IterativeSolver,
+    /// Sweep cap of the coupled normal-and-friction Gauss–Seidel that polishes an iteratively
+    /// solved island whose frictional contacts are all static and whose friction fixed point
+    /// ended unconverged (0: never). Serialised parameters from before it existed read as 0.
+    #[serde(default)]
+    pub coupled_friction_sweeps: usize,
+    /// A nonsmooth conjugate-gradient step (NNCG) after each forward–backward pair of the
+    /// coupled polish's sweeps: the same answer in fewer sweeps on jammed piles. Serialised
+    /// parameters from before it existed read as false, the polish they were run with.
+    #[serde(default)]
+    pub coupled_friction_nncg: bool,
+    /// Residual tolerance of the iterative solvers as a factor of |g| (or of 9.81 if g = 0).
+    pub solver_tolerance_factor: Real,
+    /// Iteration cap of APGD and of MPRGP.
+    pub apgd_max_iterations: usize,
+    /// Iteration cap of PGS.
+    pub pgs_max_iterations: usize,
+    /// The approach-speed bound of the substep rule. Serialised parameters from before it
+    /// existed read as `Speed`, the bound they were run with.
+    #[serde(default = "ApproachBound::speed")]
+    pub approach_bound: ApproachBound,
+}
+
+impl Default for AccelerationParams {
+    fn default() -> Self {
+        Self {
+            eps_f: 5e-3,
+            dt_cap: 2.5e-4,
+            static_friction: false,
+            friction_clamp: FrictionClamp::Zero,
+            velocity_bias: false,
+            collision_pass_cap: 50,
+            exact_solver_max_rows: 64,
+            exact_fallback_max_rows: 0,
+            iterative_solver: IterativeSolver::Apgd,
+            coupled_friction_sweeps: 1000,
+            coupled_friction_nncg: true,
+            solver_tolerance_factor: 1e-4,
+            apgd_max_iterations: 200,
+            pgs_max_iterations: 500,
+            approach_bound: ApproachBound::Normal,
+        }
+    }
+}
+
+impl AccelerationParams {
+    /// The recommended (non-paper) contact model: static friction, stick clamp, velocity bias.
+    pub fn recommended() -> Self {
+        Self { static_friction: true, friction_clamp: FrictionClamp::Stick, velocity_bias: true, ..Self::default() }
+    }
+
+    /// Rejects non-finite or non-positive values.
+    pub fn validate(&self) -> Result<(), SimError> {
+        positive("acceleration.eps_f", self.eps_f)?;
+        positive("acceleration.dt_cap", self.dt_cap)?;
+        positive("acceleration.solver_tolerance_factor", self.solver_tolerance_factor)?;
+        if self.collision_pass_cap == 0 || self.apgd_max_iterations == 0 || self.pgs_max_iterations == 0 {
+            return Err(SimError::InvalidParameter {
+                name: "acceleration iteration caps",
+                value: 0.0,
+                reason: "must be >= 1",
+            });
+        }
+        Ok(())
+    }
 }
 
 /// The velocity-level stepper's parameters, in one place for `pack`, the benchmark and the
@@ -100,18 +194,31 @@ impl Default for VelocityParams {
     }
 }
 
-/// All tunables, SI units. Lengths that scale with the pellet are given as factors of the
-/// reference pellet size `d` = twice the largest registered bounding radius.
+impl VelocityParams {
+    /// Rejects non-finite or non-positive values.
+    pub fn validate(&self) -> Result<(), SimError> {
+        positive("velocity.max_step", self.max_step)?;
+        positive("velocity.travel", self.travel)?;
+        positive("velocity.tolerance_factor", self.tolerance_factor)?;
+        positive("velocity.relative_tolerance", self.relative_tolerance)?;
+        if self.max_sweeps == 0 {
+            return Err(SimError::InvalidParameter { name: "velocity.max_sweeps", value: 0.0, reason: "must be >= 1" });
+        }
+        Ok(())
+    }
+}
+
+/// All tunables, SI units: the ones both steppers read, then each stepper's own. Lengths that
+/// scale with the pellet are given as factors of the reference pellet size `d` = twice the
+/// largest registered bounding radius. Nothing stores them (checkpoints hold the world's state,
+/// not its parameters), so this layout need not read parameters serialised in the earlier one,
+/// which had the two steppers' fields side by side.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EngineParams {
     /// Gravity, m/s². Default (0, 0, −9.81).
     pub gravity: Vec3,
     /// εp: normal-velocity band of resting contacts, m/s.
     pub eps_p: Real,
-    /// εf: tangential speed below which a contact does not slide, m/s.
-    pub eps_f: Real,
-    /// Upper bound on the substep, s (choose g·cap ≤ εp/2).
-    pub dt_cap: Real,
     /// λ as a factor of the bounding radius (proximity distance of the broad phase).
     pub proximity_factor: Real,
     /// Contact generation distance δ_c as a factor of `d`.
@@ -121,51 +228,16 @@ pub struct EngineParams {
     /// Penetration after a substep that triggers rewind-and-halve, factor of the nominal pellet
     /// size (`World::nominal_size`, the diameter; not the bounding diameter `d`).
     pub max_penetration_factor: Real,
-    /// Static friction at resting contacts whose slip is below εf (off = paper mode).
-    pub static_friction: bool,
-    /// Clamp rule for friction that would reverse sliding.
-    pub friction_clamp: FrictionClamp,
-    /// Velocity bias at resting contacts: their target zeroes the approach speed within the substep
-    /// and lets an open gap close without force, so they cannot drift (off = paper mode).
-    pub velocity_bias: bool,
-    /// Collision passes before the final e = 0 solve.
-    pub collision_pass_cap: u32,
-    /// Largest island solved by Baraff's exact method.
-    pub exact_solver_max_rows: usize,
-    /// Largest island that Baraff solves again when the iterative solver ends unconverged
-    /// (0: never). Serialised parameters from before it existed read as 0.
-    #[serde(default)]
-    pub exact_fallback_max_rows: usize,
-    /// Solver for larger islands.
-    pub iterative_solver: IterativeSolver,
-    /// Sweep cap of the coupled normal-and-friction Gauss–Seidel that polishes an iteratively
-    /// solved island whose frictional contacts are all static and whose friction fixed point
-    /// ended unconverged (0: never). Serialised parameters from before it existed read as 0.
-    #[serde(default)]
-    pub coupled_friction_sweeps: usize,
-    /// A nonsmooth conjugate-gradient step (NNCG) after each forward–backward pair of the
-    /// coupled polish's sweeps: the same answer in fewer sweeps on jammed piles. Serialised
-    /// parameters from before it existed read as false, the polish they were run with.
-    #[serde(default)]
-    pub coupled_friction_nncg: bool,
-    /// Residual tolerance of the iterative solvers as a factor of |g| (or of 9.81 if g = 0).
-    pub solver_tolerance_factor: Real,
-    /// Iteration cap of APGD and of MPRGP.
-    pub apgd_max_iterations: usize,
-    /// Iteration cap of PGS.
-    pub pgs_max_iterations: usize,
     /// Largest |ω|·δt of one rotation sub-step.
     pub max_rotation_per_substep: Real,
     /// Largest number of rewind-and-halve attempts for one substep.
     pub max_rewinds: u32,
-    /// The approach-speed bound of the substep rule. Serialised parameters from before it
-    /// existed read as `Speed`, the bound they were run with.
-    #[serde(default = "ApproachBound::speed")]
-    pub approach_bound: ApproachBound,
     /// The time-stepping scheme. Serialised parameters from before it existed read as
     /// `Acceleration`, the scheme they were run with.
     #[serde(default)]
     pub stepper: Stepper,
+    /// Parameters of the force-level stepper (unused by the other).
+    pub acceleration: AccelerationParams,
     /// Parameters of the velocity-level stepper (unused by the other).
     #[serde(default)]
     pub velocity: VelocityParams,
@@ -182,44 +254,31 @@ impl Default for EngineParams {
         Self {
             gravity: Vec3::new(0.0, 0.0, -STANDARD_GRAVITY),
             eps_p: 5e-3,
-            eps_f: 5e-3,
-            dt_cap: 2.5e-4,
             proximity_factor: 0.1,
             contact_distance_factor: 1e-3,
             slop_factor: 2.5e-4,
             max_penetration_factor: 1e-2,
-            static_friction: false,
-            friction_clamp: FrictionClamp::Zero,
-            velocity_bias: false,
-            collision_pass_cap: 50,
-            exact_solver_max_rows: 64,
-            exact_fallback_max_rows: 0,
-            iterative_solver: IterativeSolver::Apgd,
-            coupled_friction_sweeps: 1000,
-            coupled_friction_nncg: true,
-            solver_tolerance_factor: 1e-4,
-            apgd_max_iterations: 200,
-            pgs_max_iterations: 500,
             max_rotation_per_substep: 0.01,
             max_rewinds: 8,
-            approach_bound: ApproachBound::Normal,
             stepper: Stepper::Acceleration,
+            acceleration: AccelerationParams::default(),
             velocity: VelocityParams::default(),
         }
     }
 }
 
 impl EngineParams {
-    /// The recommended (non-paper) mode: static friction, stick clamp, velocity bias.
+    /// The recommended (non-paper) mode: static friction, stick clamp, velocity bias
+    /// ([`AccelerationParams::recommended`]).
     pub fn recommended() -> Self {
-        Self { static_friction: true, friction_clamp: FrictionClamp::Stick, velocity_bias: true, ..Self::default() }
+        Self { acceleration: AccelerationParams::recommended(), ..Self::default() }
     }
 
     /// Solver residual tolerance in m/s².
     pub fn solver_tolerance(&self) -> Real {
         let g = self.gravity.norm();
         let g = if g > 0.0 { g } else { STANDARD_GRAVITY };
-        self.solver_tolerance_factor * g
+        self.acceleration.solver_tolerance_factor * g
     }
 
     /// Rejects non-finite or non-positive values.
@@ -232,25 +291,13 @@ impl EngineParams {
             });
         }
         positive("eps_p", self.eps_p)?;
-        positive("eps_f", self.eps_f)?;
-        positive("dt_cap", self.dt_cap)?;
         positive("proximity_factor", self.proximity_factor)?;
         positive("contact_distance_factor", self.contact_distance_factor)?;
         positive("slop_factor", self.slop_factor)?;
         positive("max_penetration_factor", self.max_penetration_factor)?;
-        positive("solver_tolerance_factor", self.solver_tolerance_factor)?;
         positive("max_rotation_per_substep", self.max_rotation_per_substep)?;
-        positive("velocity.max_step", self.velocity.max_step)?;
-        positive("velocity.travel", self.velocity.travel)?;
-        positive("velocity.tolerance_factor", self.velocity.tolerance_factor)?;
-        positive("velocity.relative_tolerance", self.velocity.relative_tolerance)?;
-        if self.velocity.max_sweeps == 0 {
-            return Err(SimError::InvalidParameter { name: "velocity.max_sweeps", value: 0.0, reason: "must be >= 1" });
-        }
-        if self.collision_pass_cap == 0 || self.apgd_max_iterations == 0 || self.pgs_max_iterations == 0 {
-            return Err(SimError::InvalidParameter { name: "iteration caps", value: 0.0, reason: "must be >= 1" });
-        }
-        Ok(())
+        self.acceleration.validate()?;
+        self.velocity.validate()
     }
 }
 

@@ -2,7 +2,7 @@
 
 mod common;
 use common::*;
-use pellet_sim::{Container, EngineParams, FrictionClamp, Pipeline, Stepper, Vec3};
+use pellet_sim::{AccelerationParams, Container, EngineParams, FrictionClamp, Pipeline, Stepper, Vec3};
 
 fn head_on(e: f64, stepper: Stepper) {
     let (r1, r2) = (0.005, 0.007);
@@ -72,7 +72,10 @@ fn t3_oblique_equal_masses_leave_perpendicular() {
 /// Returns (v_n⁺, v_t⁺, ω⁺R, KE⁺/KE⁻).
 fn oblique_floor(mu: f64, clamp: FrictionClamp) -> (f64, f64, f64, f64) {
     let r = 0.005;
-    let params = EngineParams { friction_clamp: clamp, ..zero_gravity() };
+    let params = EngineParams {
+        acceleration: AccelerationParams { friction_clamp: clamp, ..Default::default() },
+        ..zero_gravity()
+    };
     let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(0.5, mu), wall(0.5, mu), params);
     let id = add(&mut w, t, Vec3::new(0.0, 0.0, r + 0.002), Vec3::new(1.0, 0.0, -1.0), Vec3::zeros());
     let ke0 = w.kinetic_energy();
@@ -179,7 +182,10 @@ fn final_e0_solve_after_the_pass_cap() {
     // With one pass allowed, the cradle's momentum cannot travel ball by ball: the final e = 0
     // solve makes balls 2..5 leave together, conserving momentum, and nothing approaches after.
     let r = 0.005;
-    let params = EngineParams { collision_pass_cap: 1, ..zero_gravity() };
+    let params = EngineParams {
+        acceleration: AccelerationParams { collision_pass_cap: 1, ..Default::default() },
+        ..zero_gravity()
+    };
     let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(1.0, 0.0), wall(1.0, 0.0), params);
     let ids: Vec<_> = (0..5)
         .map(|i| {
@@ -204,7 +210,12 @@ fn rewind_and_halve_keeps_penetration_below_the_bound() {
     // inside a (deliberately wide) resting band: nothing stops it, and a full substep would push
     // it 1e-4 m deep. Rewind-and-halve must keep the penetration under pen_max = 1e-3 d.
     let r = 0.005;
-    let params = EngineParams { eps_p: 0.1, dt_cap: 1e-2, max_penetration_factor: 1e-3, ..zero_gravity() };
+    let params = EngineParams {
+        eps_p: 0.1,
+        max_penetration_factor: 1e-3,
+        acceleration: AccelerationParams { dt_cap: 1e-2, ..Default::default() },
+        ..zero_gravity()
+    };
     let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(1.0, 0.0), wall(1.0, 0.0), params);
     let a = add(&mut w, t, Vec3::new(-2.0 * r, 0.0, 0.1), Vec3::new(0.08, 0.0, 0.0), Vec3::zeros());
     add(&mut w, t, Vec3::new(0.0, 0.0, 0.1), Vec3::zeros(), Vec3::zeros());

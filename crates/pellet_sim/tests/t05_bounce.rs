@@ -2,7 +2,7 @@
 
 mod common;
 use common::*;
-use pellet_sim::{Container, EngineParams, Pipeline, Stepper, Vec3};
+use pellet_sim::{AccelerationParams, Container, EngineParams, Pipeline, Stepper, Vec3};
 
 #[test]
 fn t5_bounce_heights_and_count() {
@@ -20,7 +20,11 @@ fn bounce(stepper: Stepper) {
     let e: f64 = 0.8;
     let h0 = 0.1;
     let dt = 1e-4;
-    let params = EngineParams { dt_cap: dt, stepper, ..EngineParams::default() };
+    let params = EngineParams {
+        stepper,
+        acceleration: AccelerationParams { dt_cap: dt, ..Default::default() },
+        ..EngineParams::default()
+    };
     let eps_p = params.eps_p;
     let (mut w, t) = sphere_world(Container::tube(0.05).unwrap(), r, material(e, 0.0), wall(e, 0.0), params);
     let id = add(&mut w, t, Vec3::new(0.0, 0.0, r + h0), Vec3::zeros(), Vec3::zeros());

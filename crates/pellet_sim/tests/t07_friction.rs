@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use pellet_sim::{Container, EngineParams, FrictionClamp, Pipeline, Stepper, Vec3};
+use pellet_sim::{AccelerationParams, Container, EngineParams, FrictionClamp, Pipeline, Stepper, Vec3};
 
 struct Rolling {
     t_r: f64,
@@ -16,7 +16,7 @@ struct Rolling {
 fn roll(params: EngineParams) -> Rolling {
     let r = 0.005;
     let mu = 0.3;
-    let eps_f = params.eps_f;
+    let eps_f = params.acceleration.eps_f;
     let (mut w, t) = sphere_world(Container::tube(0.6).unwrap(), r, material(0.5, mu), wall(0.5, mu), params);
     let id = add(&mut w, t, Vec3::new(-0.1, 0.0, r), Vec3::new(1.0, 0.0, 0.0), Vec3::zeros());
     let ke0 = w.kinetic_energy();
@@ -52,7 +52,7 @@ fn roll(params: EngineParams) -> Rolling {
 fn check_rolling(label: &str, params: EngineParams) {
     let g = 9.81;
     let (v0, mu) = (1.0, 0.3);
-    let eps_f = params.eps_f;
+    let eps_f = params.acceleration.eps_f;
     let got = roll(params);
     // Slipping stops when the slip reaches εf (paper mode has no friction below it).
     let t_r = 2.0 * v0 / (7.0 * mu * g);
@@ -75,7 +75,13 @@ fn t7_rolling_paper_mode() {
 
 #[test]
 fn t7_rolling_paper_mode_stick_clamp() {
-    check_rolling("paper+stick", EngineParams { friction_clamp: FrictionClamp::Stick, ..EngineParams::default() });
+    check_rolling(
+        "paper+stick",
+        EngineParams {
+            acceleration: AccelerationParams { friction_clamp: FrictionClamp::Stick, ..Default::default() },
+            ..EngineParams::default()
+        },
+    );
 }
 
 /// The velocity-level stepper: Coulomb's cone in the impulse solve, so the slip ends at zero,

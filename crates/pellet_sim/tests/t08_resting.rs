@@ -4,7 +4,7 @@
 
 mod common;
 use common::*;
-use pellet_sim::{Container, Counterpart, EngineParams, Pipeline, Vec3, WallId, World};
+use pellet_sim::{AccelerationParams, Container, Counterpart, EngineParams, Pipeline, Vec3, WallId, World};
 
 const R: f64 = 0.005;
 
@@ -13,7 +13,7 @@ fn weight(w: &World) -> f64 {
 }
 
 fn single(params: EngineParams) {
-    let bias = params.velocity_bias;
+    let bias = params.acceleration.velocity_bias;
     let slop = params.slop_factor * 2.0 * R;
     let (mut w, t) = sphere_world(Container::tube(0.05).unwrap(), R, material(0.5, 0.3), wall(0.5, 0.3), params);
     let id = add(&mut w, t, Vec3::new(0.0, 0.0, R), Vec3::zeros(), Vec3::zeros());
@@ -40,11 +40,14 @@ fn single(params: EngineParams) {
 #[test]
 fn t8a_single_sphere_rests() {
     single(EngineParams::default());
-    single(EngineParams { velocity_bias: true, ..EngineParams::default() });
+    single(EngineParams {
+        acceleration: AccelerationParams { velocity_bias: true, ..Default::default() },
+        ..EngineParams::default()
+    });
 }
 
 fn column(params: EngineParams, seconds: f64) {
-    let bias = params.velocity_bias;
+    let bias = params.acceleration.velocity_bias;
     let slop = params.slop_factor * 2.0 * R;
     let (mut w, t) = sphere_world(Container::tube(3.0 * R).unwrap(), R, material(0.5, 0.3), wall(0.5, 0.3), params);
     let ids: Vec<_> = (0..10)
@@ -87,7 +90,13 @@ fn column(params: EngineParams, seconds: f64) {
 #[test]
 fn t8b_column_of_ten_spheres() {
     column(EngineParams::default(), 10.0);
-    column(EngineParams { velocity_bias: true, ..EngineParams::default() }, 10.0);
+    column(
+        EngineParams {
+            acceleration: AccelerationParams { velocity_bias: true, ..Default::default() },
+            ..EngineParams::default()
+        },
+        10.0,
+    );
 }
 
 #[test]
@@ -180,9 +189,12 @@ fn t8d_lattice_bed_apgd() {
 fn t8d_lattice_bed_tight_tolerance() {
     // The floor force equals the weight to 1e-6 once the solver is run to a tight residual.
     let params = EngineParams {
-        solver_tolerance_factor: 1e-8,
-        apgd_max_iterations: 5000,
-        pgs_max_iterations: 20000,
+        acceleration: AccelerationParams {
+            solver_tolerance_factor: 1e-8,
+            apgd_max_iterations: 5000,
+            pgs_max_iterations: 20000,
+            ..Default::default()
+        },
         ..EngineParams::default()
     };
     let (w, p) = lattice(params);

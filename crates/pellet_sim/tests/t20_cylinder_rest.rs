@@ -12,7 +12,7 @@ const G: f64 = 9.81;
 /// Rests `ty` at pose (x, q) for `seconds` and checks T8 (a): |Δz| ≤ s_lop, |v| ≤ 1e-6 m/s,
 /// KE ≤ 1e-12 m g d, Σf = m g to 1e-6, centre of pressure under the centre within 1e-6 d.
 fn rests(ty: BodyType, x: Vec3, q: Quat, params: EngineParams, seconds: f64) {
-    let bias = params.velocity_bias;
+    let bias = params.acceleration.velocity_bias;
     let (mut w, t) = shape_world(Container::tube(0.05).unwrap(), ty, material(0.5, 0.3), wall(0.5, 0.3), params);
     let id = add_q(&mut w, t, x, q, Vec3::zeros(), Vec3::zeros());
     let d = w.reference_size();
@@ -140,8 +140,8 @@ fn stack(n: usize, params: EngineParams, vlim: f64) -> f64 {
     }
     println!(
         "stack of {n} bias={} static={}: interface force error {worst:.2e}, |dz| {dz:.2e} m, |v| {vmax:.2e}, |ω| {wmax:.2e}, max pen {pen:.2e} m, rows {}",
-        w.params().velocity_bias,
-        w.params().static_friction,
+        w.params().acceleration.velocity_bias,
+        w.params().acceleration.static_friction,
         p.last_contacts().len()
     );
     assert!(worst <= 1e-6, "interface forces off by {worst}");

@@ -34,7 +34,7 @@ fn incline(params: EngineParams, mu: f64) -> (f64, f64) {
     let off_plane = vel(&w, id).dot(&n);
     println!(
         "T6 mu={mu} static={}: a {a:.5} m/s², |v(1 s)| {v3:.3e}, v_n {off_plane:.1e}, max pen {pen:.2e} m",
-        w.params().static_friction
+        w.params().acceleration.static_friction
     );
     assert!(pen < 1e-4, "penetration {pen}");
     (a, v3.abs())

@@ -5,7 +5,7 @@
 
 mod common;
 use common::*;
-use pellet_sim::{BodyType, Container, EngineParams, Quat, Vec3};
+use pellet_sim::{AccelerationParams, BodyType, Container, EngineParams, Quat, Vec3};
 
 /// Without the friction guard, unconverged solves of one ~120-row island at t ≈ 0.567 s
 /// returned normal forces up to 5e2 N (the pellets weigh 0.015 N) and dynamic friction μ f
@@ -60,7 +60,10 @@ fn resting_friction_never_adds_energy_in_a_mixed_pour() {
 #[test]
 fn friction_guard_drops_friction_that_would_do_positive_work() {
     let (r, h, tilt) = (0.002, 0.005, 45f64.to_radians());
-    let params = EngineParams { eps_f: 1e-5, ..EngineParams::default() };
+    let params = EngineParams {
+        acceleration: AccelerationParams { eps_f: 1e-5, ..Default::default() },
+        ..EngineParams::default()
+    };
     let ty = BodyType::solid_cylinder(r, h).unwrap();
     let (mut w, t) = shape_world(Container::tube(0.1).unwrap(), ty, material(0.5, 0.05), wall(0.5, 0.05), params);
     // Axis tilted about y: the lower rim's lowest point, at −x of the centre, touches the floor.

@@ -139,7 +139,7 @@ pub fn collision_phase(
         // Velocity tolerance relative to the impact speeds of this pass.
         let vmax = colliding.iter().map(|&i| -vn[i]).fold(params.eps_p, Real::max);
         let vtol = 1e-12 * vmax;
-        let final_solve = stats.passes >= params.collision_pass_cap;
+        let final_solve = stats.passes >= params.acceleration.collision_pass_cap;
         let set: Vec<usize> = if final_solve {
             (0..contacts.len())
                 .filter(|&i| vn[i] <= params.eps_p && contacts[i].gap + vn[i].min(0.0) * dt <= delta_c)
@@ -166,10 +166,10 @@ pub fn collision_phase(
                 &mut p,
                 vtol,
                 1e3 * vtol,
-                params.exact_solver_max_rows,
-                params.iterative_solver,
-                10 * params.apgd_max_iterations,
-                10 * params.pgs_max_iterations,
+                params.acceleration.exact_solver_max_rows,
+                params.acceleration.iterative_solver,
+                10 * params.acceleration.apgd_max_iterations,
+                10 * params.acceleration.pgs_max_iterations,
                 false,
             );
             stats.solver_iterations += rep.iterations;
@@ -188,10 +188,11 @@ pub fn collision_phase(
             for (k, &ci) in island.contacts.iter().enumerate() {
                 let c = &contacts[ci];
                 let slip = u[ci] - c.normal * vn[ci];
-                if p[k] <= 0.0 || mu[ci] <= 0.0 || slip.norm() <= params.eps_f {
+                if p[k] <= 0.0 || mu[ci] <= 0.0 || slip.norm() <= params.acceleration.eps_f {
                     continue;
                 }
-                let Some(j) = friction_impulse(c, bodies, p[k], mu[ci], &slip, params.friction_clamp) else {
+                let Some(j) = friction_impulse(c, bodies, p[k], mu[ci], &slip, params.acceleration.friction_clamp)
+                else {
                     continue;
                 };
                 let um = relative_velocity(c, bodies);

@@ -69,7 +69,7 @@ pub fn update_dynamic(
         *g = if !is_clamped {
             (-mag, 0.0)
         } else {
-            match params.friction_clamp {
+            match params.acceleration.friction_clamp {
                 FrictionClamp::Stick => (-limit, 0.0),
                 FrictionClamp::Zero => (0.0, 0.0),
             }

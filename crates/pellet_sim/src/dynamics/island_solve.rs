@@ -90,7 +90,7 @@ pub struct IslandSolution {
 impl IslandProblem<'_> {
     /// Whether `solve` gives this island to Baraff when its iterative solve ends unconverged.
     fn exact_fallback(&self) -> bool {
-        self.sys.dim() <= self.params.exact_fallback_max_rows
+        self.sys.dim() <= self.params.acceleration.exact_fallback_max_rows
     }
 
     fn has_dynamic(&self) -> bool {
@@ -131,7 +131,7 @@ impl IslandProblem<'_> {
     /// Baraff.
     pub fn solve(&self, f0: Vec<Real>) -> IslandSolution {
         let (p, dim) = (self.params, self.sys.dim());
-        let exact = dim <= p.exact_solver_max_rows;
+        let exact = dim <= p.acceleration.exact_solver_max_rows;
         let sol = self.solve_with(&f0, exact);
         let unconverged = sol.report.is_some_and(|r| r.status != LcpStatus::Converged);
         if !exact && unconverged && self.exact_fallback() {
@@ -188,12 +188,12 @@ impl IslandProblem<'_> {
                 op,
                 b,
                 &mut sol.f,
-                1e-13 * tol / p.solver_tolerance_factor,
+                1e-13 * tol / p.acceleration.solver_tolerance_factor,
                 round_tol,
                 max_exact,
-                p.iterative_solver,
-                p.apgd_max_iterations,
-                p.pgs_max_iterations,
+                p.acceleration.iterative_solver,
+                p.acceleration.apgd_max_iterations,
+                p.acceleration.pgs_max_iterations,
                 exact_follows,
             );
             sol.iterations += rep.iterations;
@@ -207,7 +207,7 @@ impl IslandProblem<'_> {
         // An island with a contact slipping faster than FAST_SLIP_FACTOR · εf is in motion
         // (a pellet landing or sliding down the pile), and its last solve gets the rounds'
         // inexact tolerance (below).
-        let fast_slip = FAST_SLIP_FACTOR * p.eps_f;
+        let fast_slip = FAST_SLIP_FACTOR * p.acceleration.eps_f;
         let fast_sliding =
             !exact && fric.iter().any(|x| x.kind == Friction::Dynamic && x.slip.0.hypot(x.slip.1) > fast_slip);
         let fixed_point = |warm_friction: bool| -> (IslandSolution, Real) {
@@ -314,10 +314,16 @@ impl IslandProblem<'_> {
         // (100-row sphere islands hit 1000 sweeps) and the fixed point's answer settles the
         // bed anyway.
         let all_static = !fric.is_empty() && fric.iter().all(|x| x.kind == Friction::Static);
-        if !exact && all_static && change > friction_tol && p.coupled_friction_sweeps > 0 {
-            let problem =
-                CoupledProblem { sys, b0: self.b0, fric, free_t: self.free_t, dt, accelerate: p.coupled_friction_nncg };
-            let rep = problem.solve(&mut sol.f, &mut sol.gt, tol, p.coupled_friction_sweeps);
+        if !exact && all_static && change > friction_tol && p.acceleration.coupled_friction_sweeps > 0 {
+            let problem = CoupledProblem {
+                sys,
+                b0: self.b0,
+                fric,
+                free_t: self.free_t,
+                dt,
+                accelerate: p.acceleration.coupled_friction_nncg,
+            };
+            let rep = problem.solve(&mut sol.f, &mut sol.gt, tol, p.acceleration.coupled_friction_sweeps);
             sol.iterations += rep.iterations;
             sol.report = Some(rep);
             sol.tolerance = tol;

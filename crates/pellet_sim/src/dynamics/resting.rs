@@ -173,7 +173,7 @@ pub fn resting_phase(
             .map(|&ci| {
                 let c = &contacts[ci];
                 let mut b = normal_rhs(c, &rates, &g);
-                if params.velocity_bias {
+                if params.acceleration.velocity_bias {
                     b += (vn[ci] + c.gap.max(0.0) / dt) / dt;
                 }
                 b
@@ -189,9 +189,9 @@ pub fn resting_phase(
                 continue;
             }
             let slip = u[ci] - c.normal * vn[ci];
-            let kind = if slip.norm() > params.eps_f {
+            let kind = if slip.norm() > params.acceleration.eps_f {
                 Friction::Dynamic
-            } else if params.static_friction {
+            } else if params.acceleration.static_friction {
                 Friction::Static
             } else {
                 continue;
@@ -222,7 +222,7 @@ pub fn resting_phase(
             .collect();
         let warm_forces: Vec<(Real, Vec3)> = island.contacts.iter().map(|&ci| warm[ci]).collect();
         let f0: Vec<Real> = warm_forces.iter().map(|w| w.0).collect();
-        let g0 = warm_static_friction(&fric, &warm_forces, sys.rows.len() > params.exact_solver_max_rows);
+        let g0 = warm_static_friction(&fric, &warm_forces, sys.rows.len() > params.acceleration.exact_solver_max_rows);
         let problem = IslandProblem { sys: &sys, b0: &b0, fric: &fric, free_t: &free_t, g0: &g0, params, dt };
         let sol = problem.solve(f0);
         stats.solver_iterations += sol.iterations;

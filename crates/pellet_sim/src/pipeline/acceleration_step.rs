@@ -26,7 +26,7 @@ impl World {
         pipeline: &mut Pipeline,
         report: &mut StepReport,
     ) -> Result<(), SimError> {
-        let cap = self.params.dt_cap;
+        let cap = self.params.acceleration.dt_cap;
         while t_end - self.time > 1e-14 * t_end.abs().max(1e-3) {
             let remaining = t_end - self.time;
             let mut broad = std::mem::take(&mut pipeline.broad);

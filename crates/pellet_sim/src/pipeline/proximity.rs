@@ -36,8 +36,8 @@ impl World {
     pub(crate) fn proximity(&self, broad: &mut PairCache, horizon: Real) -> Proximity {
         let lambda = self.lambda();
         let g = self.params.gravity.norm();
-        let dt_cap = self.params.dt_cap;
-        let normal = self.params.approach_bound == ApproachBound::Normal;
+        let dt_cap = self.params.acceleration.dt_cap;
+        let normal = self.params.acceleration.approach_bound == ApproachBound::Normal;
         let centres: Vec<Vec3> = self.bodies.iter().map(|b| b.position).collect();
         let radii: Vec<Real> =
             self.bodies.iter().map(|b| b.bounding_radius + lambda + b.velocity().norm() * horizon).collect();
@@ -155,7 +155,8 @@ mod tests {
     const R: Real = 0.005;
 
     fn world(bound: ApproachBound, cylinder: bool) -> (World, TypeId) {
-        let params = EngineParams { approach_bound: bound, ..EngineParams::default() };
+        let mut params = EngineParams::default();
+        params.acceleration.approach_bound = bound;
         let mat = Material { density: 2000.0, cor: 0.5, friction: 0.3 };
         let wall = WallMaterial { cor: 0.5, friction: 0.3 };
         let mut w = World::new(Container::tube(0.04).unwrap(), mat, wall, params).unwrap();
@@ -165,7 +166,7 @@ mod tests {
     }
 
     fn v_max(w: &World) -> Real {
-        w.proximity(&mut PairCache::default(), w.params.dt_cap).v_max
+        w.proximity(&mut PairCache::default(), w.params.acceleration.dt_cap).v_max
     }
 
     /// Two spheres falling side by side at 2 m/s, 0.3 mm from each other and from the tube
@@ -179,9 +180,9 @@ mod tests {
             w.add_body(t, Vec3::new(0.015 - 3e-4, 0.0, 0.1), Quat::identity(), fall, Vec3::zeros()).unwrap();
             w.add_body(t, Vec3::new(0.005 - 6e-4, 0.0, 0.1), Quat::identity(), fall, Vec3::new(0.0, 50.0, 0.0))
                 .unwrap();
-            let p = w.proximity(&mut PairCache::default(), w.params.dt_cap);
+            let p = w.proximity(&mut PairCache::default(), w.params.acceleration.dt_cap);
             assert_eq!((p.pairs.len(), p.walls.len()), (1, 1));
-            let gravity_part = w.params.gravity.norm() * w.params.dt_cap;
+            let gravity_part = w.params.gravity.norm() * w.params.acceleration.dt_cap;
             if expect_fast {
                 assert!(p.v_max >= 2.0, "{bound:?}: {}", p.v_max);
             } else {
@@ -265,10 +266,10 @@ mod tests {
             tried += 1;
             w.add_body(t, a, Quat::identity(), va, Vec3::zeros()).unwrap();
             w.add_body(t, b, Quat::identity(), vb, Vec3::zeros()).unwrap();
-            let p = w.proximity(&mut PairCache::default(), w.params.dt_cap);
+            let p = w.proximity(&mut PairCache::default(), w.params.acceleration.dt_cap);
             // Gravity's share of a wall's bound is not in these straight-line motions.
-            let (pair_bound, wall_bound) = (p.v_max, p.v_max - w.params.gravity.norm() * w.params.dt_cap);
-            let dt = w.params.dt_cap * uniform();
+            let (pair_bound, wall_bound) = (p.v_max, p.v_max - w.params.gravity.norm() * w.params.acceleration.dt_cap);
+            let dt = w.params.acceleration.dt_cap * uniform();
             let (a1, b1) = (a + va * dt, b + vb * dt);
             let gap = |x: Vec3, y: Vec3| (x - y).norm() - 2.0 * R;
             let floor = |x: Vec3| x.z - R;

@@ -2,7 +2,8 @@
 #![allow(dead_code)]
 
 use pellet_sim::{
-    BodyId, BodyType, Container, EngineParams, Material, Pipeline, Quat, Real, TypeId, Vec3, WallMaterial, World,
+    AccelerationParams, BodyId, BodyType, Container, EngineParams, Material, Pipeline, Quat, Real, TypeId, Vec3,
+    WallMaterial, World,
 };
 
 /// Density used by the tests, kg/m³.
@@ -101,7 +102,7 @@ pub fn cylinder_stack(n: usize, params: EngineParams) -> (World, Vec<BodyId>) {
 
 /// Recommended-mode switch used by "bias on" variants.
 pub fn with_bias(params: EngineParams) -> EngineParams {
-    EngineParams { velocity_bias: true, ..params }
+    EngineParams { acceleration: AccelerationParams { velocity_bias: true, ..params.acceleration }, ..params }
 }
 
 /// A mixed pour in a 40 mm tube, paper mode: `n` pellets alternating equilateral 10 mm
