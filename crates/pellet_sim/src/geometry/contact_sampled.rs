@@ -37,8 +37,8 @@ const EDGE_EPS: Real = 1e-9;
 /// at every stacked interface made a stack of 5 cylinders blow up.
 /// Round-off made the old `> 0` test pass them (alignment ~1e-7).
 const MIN_ALIGN: Real = 0.1;
-/// Golden-section iterations of the rim refinement (interval × 0.618²⁴ ≈ 1e-5).
-const GOLDEN_ITERS: usize = 24;
+/// Golden-section iterations of the rim refinement (interval × 0.618¹⁴ ≈ 1.2e-3).
+const GOLDEN_ITERS: usize = 14;
 
 fn rotation(p: &Pellet<'_>) -> Mat3 {
     *p.body.orientation.to_rotation_matrix().matrix()
