@@ -6,35 +6,59 @@ use std::sync::Mutex;
 
 use crate::IoError;
 
-/// The temporary files being written, removed by the signal handler: a temporary file is
-/// otherwise removed only when its writer returns, and an interrupted tool never returns.
-static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// The temporary files being written, removed by the signal handler (a temporary file is
+/// otherwise removed only when its writer returns, and an interrupted tool never returns), and
+/// whether they are being renamed into place.
+static TEMPORARIES: Mutex<Staging> = Mutex::new(Staging { paths: Vec::new(), committing: false, written: false });
+
+struct Staging {
+    paths: Vec<PathBuf>,
+    committing: bool,
+    /// Some outputs are in place: an interrupt no longer leaves every output as it was.
+    written: bool,
+}
 
 /// On Ctrl-C or SIGTERM, removes the temporary files of [`write_outputs`] in progress (the
 /// outputs stay as they were) and ends the tool with `tool: error: interrupted` and exit 2.
-/// For tools that install no handler of their own (`pack` finishes its step and keeps its run).
+/// Once the complete outputs are being renamed into place, the signal lets the renames finish
+/// and the tool end as it would have: stopping between two renames would leave some outputs
+/// new and others old. For tools that install no handler of their own (`pack` finishes its
+/// step and keeps its run).
 pub fn remove_temporary_files_on_signal(tool: &'static str) {
     let _ = ctrlc::set_handler(move || {
-        remove_temporaries();
-        eprintln!("{tool}: error: interrupted; no output was changed");
+        // Held to the exit, so that no rename can start after the temporaries are gone.
+        let Ok(mut staging) = TEMPORARIES.lock() else { std::process::exit(2) };
+        if staging.committing {
+            return;
+        }
+        for path in std::mem::take(&mut staging.paths) {
+            let _ = std::fs::remove_file(path);
+        }
+        if staging.written {
+            eprintln!("{tool}: error: interrupted after writing some of its outputs");
+        } else {
+            eprintln!("{tool}: error: interrupted; no output was changed");
+        }
         std::process::exit(2);
     });
-}
-
-fn remove_temporaries() {
-    let paths = TEMPORARIES.lock().map(|mut t| std::mem::take(&mut *t)).unwrap_or_default();
-    for path in paths {
-        let _ = std::fs::remove_file(path);
-    }
 }
 
 fn registered(path: &Path, add: bool) {
     if let Ok(mut t) = TEMPORARIES.lock() {
         if add {
-            t.push(path.to_path_buf());
+            t.paths.push(path.to_path_buf());
         } else {
-            t.retain(|p| p != path);
+            t.paths.retain(|p| p != path);
         }
+    }
+}
+
+/// Marks the renames into place as begun (`true`: from here the outputs are complete) or
+/// ended.
+fn committing(now: bool) {
+    if let Ok(mut t) = TEMPORARIES.lock() {
+        t.committing = now;
+        t.written |= !now;
     }
 }
 
@@ -118,10 +142,17 @@ pub fn write_outputs(outputs: &[OutputFile]) -> Result<(), IoError> {
         staged.push((tmp, target));
     }
     let staged_paths: Vec<PathBuf> = staged.iter().map(|(tmp, _)| tmp.path().to_path_buf()).collect();
+    let renames = !staged.is_empty();
+    if renames {
+        committing(true);
+    }
     let persisted = staged.into_iter().try_for_each(|(tmp, target)| {
         tmp.persist(target).map(|_| ()).map_err(|e| IoError::Io { path: target.display().to_string(), source: e.error })
     });
     staged_paths.iter().for_each(|p| registered(p, false));
+    if renames {
+        committing(false);
+    }
     persisted?;
     for out in in_place {
         let io = |source| IoError::Io { path: out.path.clone(), source };
