@@ -8,7 +8,7 @@ BIN := $(or $(CARGO_TARGET_DIR),target)/release
 PREFIX ?= /usr/local
 TOOLS := mkpellet pack settle-check voidprof compare bedexport paper-report
 
-.PHONY: all build install pipeline test fuzz test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park
+.PHONY: all build install pipeline test fuzz test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park stepper-study stepper-study-report
 
 all: pipeline
 
@@ -113,6 +113,23 @@ paper-report: build
 # small copies, to commit, that the next `make paper…` anywhere resumes from.
 paper-park: build
 	+$(PAPER) park
+
+# The steppers' equivalence study (pipelines/stepper-study.mk, docs/validation/reproducing.md
+# "The steppers' equivalence study"): the paper's validation tubes and the 690-sphere batch bed
+# packed with `pack --stepper velocity`, against the force-level beds recorded for the same
+# cases. Beds under $(STEPPER_STUDY_OUT), records in $(PAPER_DOCS)/stepper-study, the report in
+# $(PAPER_DOCS)/stepper-study.md, written also when some beds failed. Resumable: a bed with a
+# record is not run again. A subset: TUBES="val-sphere-D41 ..." (the paper's validation
+# configurations), SEEDS=k (seeds 1..k of each, default 6), SPHERE690_SEEDS=k (default 20;
+# empty: none). About 3 h of one core in all; `make -j2 stepper-study` runs two beds at once.
+STEPPER_STUDY_OUT ?= $(OUT)/stepper-study
+STEPPER_STUDY = $(MAKE) --no-print-directory -f pipelines/stepper-study.mk BIN=$(BIN) OUT=$(STEPPER_STUDY_OUT) DOCS=$(PAPER_DOCS)
+
+stepper-study: build
+	+$(STEPPER_STUDY) beds || status=$$?; $(STEPPER_STUDY) report && exit $${status:-0}
+
+stepper-study-report:
+	$(STEPPER_STUDY) report
 
 clean:
 	rm -rf $(OUT)

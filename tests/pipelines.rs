@@ -6,6 +6,8 @@ mod paper;
 mod reliability;
 #[path = "repository.rs"]
 mod repository;
+#[path = "stepper_study.rs"]
+mod stepper_study;
 
 use std::path::Path;
 
