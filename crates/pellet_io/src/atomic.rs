@@ -31,9 +31,7 @@ pub fn remove_temporary_files_on_signal(tool: &'static str) {
         if staging.committing {
             return;
         }
-        for path in std::mem::take(&mut staging.paths) {
-            let _ = std::fs::remove_file(path);
-        }
+        remove_temporaries(&mut staging);
         if staging.written {
             eprintln!("{tool}: error: interrupted after writing some of its outputs");
         } else {
@@ -41,6 +39,12 @@ pub fn remove_temporary_files_on_signal(tool: &'static str) {
         }
         std::process::exit(2);
     });
+}
+
+fn remove_temporaries(staging: &mut Staging) {
+    for path in std::mem::take(&mut staging.paths) {
+        let _ = std::fs::remove_file(path);
+    }
 }
 
 fn registered(path: &Path, add: bool) {
@@ -213,7 +217,7 @@ mod tests {
         std::fs::write(&tmp, b"partial").unwrap();
         std::fs::write(&kept, b"old output").unwrap();
         super::registered(&tmp, true);
-        super::remove_temporaries();
+        super::remove_temporaries(&mut super::TEMPORARIES.lock().unwrap());
         assert!(!tmp.exists());
         assert_eq!(std::fs::read(&kept).unwrap(), b"old output");
     }
