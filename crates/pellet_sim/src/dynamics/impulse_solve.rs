@@ -221,6 +221,18 @@ impl Block {
     }
 }
 
+/// `t` projected onto the disk of radius `bound` (radially: the answer's direction is `t`'s).
+#[inline]
+fn onto_disk(t: [Real; 2], bound: Real) -> [Real; 2] {
+    let norm = (t[0] * t[0] + t[1] * t[1]).sqrt();
+    if norm > bound {
+        let s = if norm > 0.0 { bound / norm } else { 0.0 };
+        [t[0] * s, t[1] * s]
+    } else {
+        t
+    }
+}
+
 /// Solves the step's contact problem from the free velocities in `st` (changed in place to
 /// the velocities after the step), starting from `warm` impulses. Stops once a sweep changes no relative velocity by more than `tolerance` (m/s), or
 /// after `max_sweeps`.
@@ -249,12 +261,7 @@ pub fn solve_impulses(
             }
             lw[k] = l;
         }
-        let mut t = [f0.dot(&blk.dir[1]), f0.dot(&blk.dir[2])];
-        let norm = (t[0] * t[0] + t[1] * t[1]).sqrt();
-        if norm > blk.mu * n0 {
-            let s = if norm > 0.0 { blk.mu * n0 / norm } else { 0.0 };
-            t = [t[0] * s, t[1] * s];
-        }
+        let t = onto_disk([f0.dot(&blk.dir[1]), f0.dot(&blk.dir[2])], blk.mu * n0);
         blk.apply(st, 0, n0);
         blk.apply(st, 1, t[0]);
         blk.apply(st, 2, t[1]);
@@ -297,15 +304,13 @@ pub fn solve_impulses(
             }
             let bound = blk.mu * ln[k];
             let old = lt[k];
-            let mut t = [
-                old[0] - (blk.kt_inv[0][0] * u1 + blk.kt_inv[0][1] * u2),
-                old[1] - (blk.kt_inv[1][0] * u1 + blk.kt_inv[1][1] * u2),
-            ];
-            let norm = (t[0] * t[0] + t[1] * t[1]).sqrt();
-            if norm > bound {
-                let s = if norm > 0.0 { bound / norm } else { 0.0 };
-                t = [t[0] * s, t[1] * s];
-            }
+            let t = onto_disk(
+                [
+                    old[0] - (blk.kt_inv[0][0] * u1 + blk.kt_inv[0][1] * u2),
+                    old[1] - (blk.kt_inv[1][0] * u1 + blk.kt_inv[1][1] * u2),
+                ],
+                bound,
+            );
             let d = [t[0] - old[0], t[1] - old[1]];
             let dt = (d[0] * d[0] + d[1] * d[1]).sqrt() * blk.kt_trace;
             if dt > negligible {

@@ -3,7 +3,7 @@
 //! bounded by the patch's Coulomb torque and a rolling pair bounded by the normal force at
 //! its rim, on the bodies' relative angular velocity.
 
-use super::{Block, NormalTarget, VelocityState};
+use super::{onto_disk, Block, NormalTarget, VelocityState};
 use crate::geometry::contact::Contact;
 use crate::math::{Real, Vec3};
 
@@ -84,13 +84,7 @@ impl PatchBlock {
     pub(super) fn clamp(&self, l: &mut [Real; 3], ln: Real) {
         let spin = self.spin * ln;
         l[0] = l[0].clamp(-spin, spin);
-        let roll = self.roll * ln;
-        let norm = (l[1] * l[1] + l[2] * l[2]).sqrt();
-        if norm > roll {
-            let s = if norm > 0.0 { roll / norm } else { 0.0 };
-            l[1] *= s;
-            l[2] *= s;
-        }
+        [l[1], l[2]] = onto_disk([l[1], l[2]], self.roll * ln);
     }
 
     /// One Gauss–Seidel visit of the spin row and the rolling pair under the normal impulse
@@ -114,16 +108,13 @@ impl PatchBlock {
         }
         let (w1, w2) = (self.turn(blk, st, 1), self.turn(blk, st, 2));
         let old = [l[1], l[2]];
-        let mut r = [
-            old[0] - (self.kr_inv[0][0] * w1 + self.kr_inv[0][1] * w2),
-            old[1] - (self.kr_inv[1][0] * w1 + self.kr_inv[1][1] * w2),
-        ];
-        let roll = self.roll * ln;
-        let norm = (r[0] * r[0] + r[1] * r[1]).sqrt();
-        if norm > roll {
-            let s = if norm > 0.0 { roll / norm } else { 0.0 };
-            r = [r[0] * s, r[1] * s];
-        }
+        let r = onto_disk(
+            [
+                old[0] - (self.kr_inv[0][0] * w1 + self.kr_inv[0][1] * w2),
+                old[1] - (self.kr_inv[1][0] * w1 + self.kr_inv[1][1] * w2),
+            ],
+            self.roll * ln,
+        );
         let d = [r[0] - old[0], r[1] - old[1]];
         let dr = (d[0] * d[0] + d[1] * d[1]).sqrt() * self.kr_trace * self.reach;
         if dr > negligible {
