@@ -378,11 +378,12 @@ fn cap_facing_the_tube_wall() {
 }
 
 /// Two cylinders of the 620-cylinder bed (seed 1, pellets 167 and 300 at rest, poses in mm
-/// from `settle-check --csv`) whose rims cross near a point 7.07 mm from both centres:
+/// from `settle-check --csv`): B's cap lies almost flat against A's side next to A's rim, the
+/// overlap a strip ~0.44 mm wide cut off by the two rims, between the surface samples.
 /// `pellet_analysis::deepest_overlap` (exact surfaces, independent of the engine) finds them
-/// 4.809 µm deep; both steppers' rules give 3.41 µm, the refined point of the second one's rim.
+/// 4.809 µm deep, ~10 µm below A's rim on its side; the best rim point is 3.7 µm deep, so the
+/// refined rim points must be followed into their faces (`rim_refine`).
 #[test]
-#[ignore = "a rim crossing of the 620-cylinder bed: 3.41 µm against the exact 4.81 µm"]
 fn rims_crossing_in_the_620_cylinder_bed() {
     let c = cylinder();
     let pose = |x: [Real; 3], q: [Real; 4]| {

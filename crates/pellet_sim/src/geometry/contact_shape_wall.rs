@@ -9,9 +9,9 @@
 //! Mesh shapes: their samples, reduced to ≤ 4 points per wall.
 
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
-use super::contact_sampled::golden_min;
 use super::narrow_phase::Pellet;
 use super::patch::{reduce, Hit, NEAR_BAND};
+use super::rim_refine::golden_min;
 use super::samples::rim_point;
 use crate::container::{Container, WallId};
 use crate::math::{axial_distance, Mat3, Real, Vec3};

@@ -13,6 +13,7 @@ mod contact_sphere_wall;
 pub mod narrow_phase;
 pub(crate) mod pair_cache;
 mod patch;
+mod rim_refine;
 pub mod sample_cache;
 pub mod samples;
 pub(crate) mod sdf;
