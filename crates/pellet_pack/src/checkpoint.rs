@@ -340,6 +340,24 @@ mod tests {
         assert_eq!(resume_conflicts(&velocity, &config(Some(Stepper::Acceleration))).len(), 1);
     }
 
+    /// A run recorded before the velocity stepper's step was a setting had the step of that
+    /// time (0.025 d, 1.25 ms): it resumes with those, and any other is a change.
+    #[test]
+    fn a_run_recorded_before_the_step_settings_had_the_old_step() {
+        let mut velocity = config(Some(Stepper::Velocity));
+        velocity.step_travel_dp = 0.025;
+        velocity.max_step_s = 1.25e-3;
+        let mut old = serde_json::to_value(&velocity).unwrap();
+        for key in ["step_travel_dp", "max_step_s"] {
+            old.as_object_mut().unwrap().remove(key);
+        }
+        let old = old.to_string();
+        assert!(resume_conflicts(&old, &velocity).is_empty());
+        let mut halved = velocity.clone();
+        halved.max_step_s = 6.25e-4;
+        assert_eq!(resume_conflicts(&old, &halved), ["--max-step 0.00125 → 0.000625"]);
+    }
+
     /// The settings are named as the flags are typed, in the flags' units.
     #[test]
     fn differing_settings_read_as_flags_in_their_units() {

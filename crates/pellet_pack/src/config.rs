@@ -14,6 +14,7 @@ use crate::keys;
 use crate::loading::LoadingScheme;
 use pellet_geom::math::shown;
 pub use pellet_sim::Stepper;
+use pellet_sim::VelocityParams;
 
 /// Most pellets a bed may hold: checked before anything is allocated for them (a million
 /// pellets take a few GB with their contacts; four billion aborted the allocator).
@@ -24,7 +25,7 @@ pub const MAX_COUNT: u32 = 1_000_000;
 pub const MAX_LENGTH_MM: f64 = 1e4;
 
 /// The stepper of a run that does not choose one.
-pub const DEFAULT_STEPPER: Stepper = Stepper::Acceleration;
+pub const DEFAULT_STEPPER: Stepper = Stepper::Velocity;
 use crate::ConfigError;
 
 /// Parameters as typed (lengths in mm, times in s, angles in degrees).
@@ -91,6 +92,11 @@ pub struct PackOptions {
     pub stepper: Option<Stepper>,
     /// Radius of the patch a contact point stands for, in pellet diameters (velocity-level stepper).
     pub contact_patch: Option<f64>,
+    /// Largest relative surface travel of a near pair over one step, in pellet diameters
+    /// (velocity-level stepper).
+    pub step_travel: Option<f64>,
+    /// Longest step (s; velocity-level stepper).
+    pub max_step: Option<f64>,
 }
 
 /// Which contact model the engine uses.
@@ -188,7 +194,9 @@ impl PackOptions {
             friction_clamp,
             foxglove,
             stepper,
-            contact_patch
+            contact_patch,
+            step_travel,
+            max_step
         )
     }
 }
@@ -271,6 +279,23 @@ pub struct PackConfig {
     /// written before it existed read as 0, the model that wrote them.
     #[serde(default)]
     pub contact_patch_dp: f64,
+    /// The velocity-level stepper's largest relative surface travel of a near pair over one
+    /// step, as a fraction of the pellet diameter. Archives written before it was a setting
+    /// read as 0.025, the value that wrote them.
+    #[serde(default = "recorded_step_travel")]
+    pub step_travel_dp: f64,
+    /// The velocity-level stepper's longest step (s). Archives written before it was a setting
+    /// read as 1.25 ms, the value that wrote them.
+    #[serde(default = "recorded_max_step")]
+    pub max_step_s: f64,
+}
+
+fn recorded_step_travel() -> f64 {
+    0.025
+}
+
+fn recorded_max_step() -> f64 {
+    1.25e-3
 }
 
 fn default_checkpoint_every() -> f64 {
@@ -377,6 +402,8 @@ impl PackConfig {
             friction_clamp: o.friction_clamp,
             stepper: o.stepper.unwrap_or(DEFAULT_STEPPER),
             contact_patch_dp: check("contact-patch", o.contact_patch.unwrap_or(DEFAULT_CONTACT_PATCH))?,
+            step_travel_dp: check("step-travel", o.step_travel.unwrap_or(VelocityParams::default().travel))?,
+            max_step_s: check("max-step", o.max_step.unwrap_or(VelocityParams::default().max_step))?,
         })
     }
 }

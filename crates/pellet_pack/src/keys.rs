@@ -80,6 +80,10 @@ pub(crate) const KEYS: &[(&str, Kind)] = &[
     ("stepper", Kind::OneOf(&["acceleration", "velocity"])),
     // Up to a tenth of the pellet: a wider patch is not a contact point's any more.
     ("contact-patch", closed(0.0, 0.1, " dp")),
+    // A step is a fraction of an engine step of 5 ms; a pair travelling more than a tenth of a
+    // pellet in one step would pass contacts that the step's near set cannot hold.
+    ("step-travel", above(0.0, 0.1, " dp")),
+    ("max-step", above(0.0, 0.005, " s")),
 ];
 
 /// What `key` takes; `None` for a key `pack` does not have.
@@ -162,6 +166,8 @@ mod tests {
             foxglove: Some(true),
             stepper: Some(Stepper::Velocity),
             contact_patch: Some(1.0),
+            step_travel: Some(1.0),
+            max_step: Some(1.0),
         };
         let fields = match serde_json::to_value(all).unwrap() {
             serde_json::Value::Object(m) => m.keys().cloned().collect::<Vec<_>>(),

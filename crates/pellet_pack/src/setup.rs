@@ -167,7 +167,12 @@ pub fn engine_params(config: &PackConfig) -> EngineParams {
             friction_clamp,
             ..base.acceleration
         },
-        velocity: VelocityParams { patch_radius: config.contact_patch_dp, ..base.velocity },
+        velocity: VelocityParams {
+            patch_radius: config.contact_patch_dp,
+            travel: config.step_travel_dp,
+            max_step: config.max_step_s,
+            ..base.velocity
+        },
         ..base
     }
 }

@@ -41,8 +41,10 @@ contact-model = "recommended"
 resting-band = 5e-3
 friction-clamp = "stick"
 foxglove = false
-stepper = "acceleration"
+stepper = "velocity"
 contact-patch = 1e-3
+step-travel = 0.025
+max-step = 1.25e-3
 "#;
 
 /// Reads and resolves a case file; every error is one readable line.

@@ -123,17 +123,28 @@ pub struct Args {
     /// recommended, zero for paper].
     #[arg(long, value_enum)]
     friction_clamp: Option<ClampArg>,
-    /// Time-stepping scheme: `acceleration` (the paper's force-level substeps, at most
-    /// 0.25 ms each) or `velocity` (one impulse solve per step of up to 1.25 ms)
-    /// [default: acceleration].
+    /// Time-stepping scheme: `velocity` (one impulse solve per step of up to 1.25 ms) or
+    /// `acceleration` (the paper's force-level substeps, at most 0.25 ms each, for reproducing
+    /// the paper) [default: velocity; --resume without it continues a run with its own].
     #[arg(long, value_enum)]
     stepper: Option<StepperArg>,
     /// Under the velocity-level stepper, the radius of the patch each contact point stands for,
     /// in pellet diameters (not used between spheres): the spin of the contact is bounded by
     /// the patch's Coulomb torque (3π/16) μ a N and its rolling by a N, so that a pellet held at
-    /// one or two points comes to rest; 0 lets contact points turn freely [default: 0.001].
+    /// one or two points comes to rest; 0 lets contact points turn freely [default: 0.001;
+    /// --resume without it continues a run with its own].
     #[arg(long, value_name = "DP")]
     contact_patch: Option<f64>,
+    /// Under the velocity-level stepper, the largest relative surface travel of a touching or
+    /// closing pair over one step, in pellet diameters; with --max-step it sets the step, and
+    /// halving both checks that a bed does not depend on it [default: 0.025; --resume
+    /// without it continues a run with its own].
+    #[arg(long, value_name = "DP")]
+    step_travel: Option<f64>,
+    /// Under the velocity-level stepper, the longest step (s) [default: 0.00125; --resume
+    /// without it continues a run with its own].
+    #[arg(long, value_name = "S")]
+    max_step: Option<f64>,
     /// Simulated time limit (s; a whole number of the 0.005 s engine steps) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
@@ -272,6 +283,8 @@ impl Args {
                 ModelArg::Recommended => ContactModel::Recommended,
             }),
             contact_patch: self.contact_patch,
+            step_travel: self.step_travel,
+            max_step: self.max_step,
         }
     }
 }
@@ -287,9 +300,10 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         None => PackOptions::default(),
     };
     let options = base.overlay(args.options());
-    let config = PackConfig::resolve(&options)?;
     let output =
         options.output.clone().context("give the trajectory file with -o FILE (or `output` in the case file)")?;
+    let options = if args.resume || args.park.is_some() { resume::follow_recorded(options, &output) } else { options };
+    let config = PackConfig::resolve(&options)?;
     if output == "-" {
         bail!("pack writes its trajectory to a file (it is renamed into place when complete); give -o FILE");
     }

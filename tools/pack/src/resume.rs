@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context};
 
 use pellet_io::{IoError, ReadOptions, Trajectory, TrajectoryWriter};
-use pellet_pack::{resume_conflicts, Checkpoint, Ending, PackConfig};
+use pellet_pack::{resume_conflicts, Checkpoint, Ending, PackConfig, PackOptions};
 
 /// A run to continue.
 pub struct Source {
@@ -144,6 +144,30 @@ fn read_run(path: &Path, options: ReadOptions) -> Result<Option<Trajectory>, Str
         Err(IoError::Corrupt { reason, .. }) => Err(reason.split("; ").next().unwrap_or_default().to_string()),
         Err(e) => Err(e.to_string()),
     }
+}
+
+/// `options` with the settings whose default has changed over packbed's versions (the
+/// stepper, the contact patch, the velocity stepper's step) taken from the run being continued
+/// where the user left them out: a run keeps the stepper it was made with when the same command
+/// resumes it. The first candidate whose run metadata reads decides; with none, `options` are
+/// returned as they are.
+pub fn follow_recorded(mut options: PackOptions, output: &str) -> PackOptions {
+    let given = [options.contact_patch, options.step_travel, options.max_step];
+    if options.stepper.is_some() && given.iter().all(Option::is_some) {
+        return options;
+    }
+    let recorded = [with_suffix(output, ".part"), PathBuf::from(output), with_suffix(output, ".resume")]
+        .into_iter()
+        .filter(|path| path.is_file())
+        .filter_map(|path| read_run(&path, ReadOptions { skip_frames: true, ..ReadOptions::default() }).ok()?)
+        .find_map(|t| serde_json::from_str::<PackConfig>(t.run.get("config")?).ok());
+    if let Some(recorded) = recorded {
+        options.stepper.get_or_insert(recorded.stepper);
+        options.contact_patch.get_or_insert(recorded.contact_patch_dp);
+        options.step_travel.get_or_insert(recorded.step_travel_dp);
+        options.max_step.get_or_insert(recorded.max_step_s);
+    }
+    options
 }
 
 /// The run at `output` in a few words ("a run interrupted at t = 1.185 s"), if it stopped

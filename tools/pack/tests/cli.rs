@@ -340,6 +340,41 @@ fn resume_continues_a_stopped_or_killed_run_exactly() {
     assert!(!d.join("k.mcap.part").exists() && !d.join("k.mcap.resume").exists());
 }
 
+/// A run made with settings whose default has since changed (here the stepper, given as the
+/// force-level one) resumes with them when the same command leaves them out, to the
+/// uninterrupted run's frames; asking for another stepper is refused, naming it.
+#[test]
+fn a_run_resumes_with_the_stepper_it_was_made_with() {
+    let dir = setup();
+    let d = dir.path();
+    let with_stepper = |max_time: &str, output: &str, stepper: Option<&str>| {
+        let mut a = resumable(max_time, output);
+        if let Some(s) = stepper {
+            a.extend(["--stepper", s].map(String::from));
+        }
+        a
+    };
+    let whole = with_stepper("0.9", "whole.mcap", Some("acceleration"));
+    assert_eq!(pack_owned(d, &whole).status.code(), Some(1));
+    let whole = read(d, "whole.mcap");
+    assert!(whole.run["config"].contains(r#""stepper":"acceleration""#), "{}", whole.run["config"]);
+
+    assert_eq!(pack_owned(d, &with_stepper("0.45", "a.mcap", Some("acceleration"))).status.code(), Some(1));
+    let mut other = with_stepper("0.9", "a.mcap", Some("velocity"));
+    other.push("--resume".into());
+    let err = stderr(&pack_owned(d, &other));
+    assert!(err.contains("cannot resume") && err.contains("--stepper acceleration → velocity"), "{err}");
+
+    let mut again = with_stepper("0.9", "a.mcap", None);
+    again.push("--resume".into());
+    let out = pack_owned(d, &again);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let a = read(d, "a.mcap");
+    assert!(a.run["config"].contains(r#""stepper":"acceleration""#), "{}", a.run["config"]);
+    assert_eq!(a.frames, whole.frames);
+    assert_eq!(a.energy, whole.energy);
+}
+
 /// --park writes a small copy of a partial run (one frame, the energy records, the
 /// checkpoint) and leaves the run alone; that copy, put under the output's name in another
 /// directory, resumes to the uninterrupted run's frames after the checkpoint and its energy

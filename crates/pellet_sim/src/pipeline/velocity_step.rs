@@ -38,16 +38,17 @@ impl World {
     }
 
     /// The radius of the patch each contact point stands for (m): `VelocityParams::patch_radius`
-    /// of the pellet size, unless both sides are round (spheres and walls), whose contacts
-    /// leave no mode that keeps a bed from rest (`docs/engine.md`, "Contact points as small
-    /// patches").
+    /// of the pellet size, except between two spheres. A sphere rolling in the groove between
+    /// two spheres meets a third within a diameter; one rolling along the wall, in the groove
+    /// between a sphere or the floor and the wall, goes round the tube for ever
+    /// (`docs/engine.md`, "Contact points as small patches").
     fn patch_radii(&self, contacts: &[Contact]) -> Vec<Real> {
         let a = self.params.velocity.patch_radius * self.nominal_size();
         contacts
             .iter()
             .map(|c| {
-                let round = self.round(c.a) && c.b_body().is_none_or(|b| self.round(b));
-                if round {
+                let spheres = self.round(c.a) && c.b_body().is_some_and(|b| self.round(b));
+                if spheres {
                     0.0
                 } else {
                     a
