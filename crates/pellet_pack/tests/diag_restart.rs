@@ -6,7 +6,7 @@
 //! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo test --release -p pellet_pack --test diag_restart -- --ignored --nocapture`
 //!
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
-//! run, `STEP` the engine call's step (s, default 1/40); `VELOCITY` runs the velocity-level stepper; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `PGS_ONLY`, `TOL` (solver tolerance / g), `MAX_SWEEPS`, `VTOL` (the velocity solve's tolerance / εp), `PATCH` (the point contacts' patch radius / d) change one
+//! run, `STEP` the engine call's step (s, default 1/40); the stepper is the trajectory's, or `VELOCITY` / `ACCELERATION` chooses one; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `TOL` (solver tolerance / g), `MAX_SWEEPS`, `VTOL` (the velocity solve's tolerance / εp), `PATCH` (the point contacts' patch radius / d) change one
 //! setting, and `CONTACTS` lists the fastest pellet's contacts (or pellet `BODY`'s, whose motion is
 //! printed too) after every step; `PAIRS` counts contact points per pair; `CHECKPOINT` goes on
 //! from the trajectory's last checkpoint (velocities and warm starts included) instead. The tube and
@@ -57,8 +57,15 @@ fn restart_from_a_frame() {
     if let Ok(v) = std::env::var("TOL") {
         params.acceleration.solver_tolerance_factor = v.parse().unwrap();
     }
+    // The trajectory's own stepper (runs recorded before the choice were the force-level
+    // stepper's), unless VELOCITY or ACCELERATION asks for one.
+    let recorded = traj.run.get("config").and_then(|c| serde_json::from_str::<pellet_pack::PackConfig>(c).ok());
+    params.stepper = recorded.map_or(pellet_sim::Stepper::Acceleration, |c| c.stepper);
     if std::env::var("VELOCITY").is_ok() {
         params.stepper = pellet_sim::Stepper::Velocity;
+    }
+    if std::env::var("ACCELERATION").is_ok() {
+        params.stepper = pellet_sim::Stepper::Acceleration;
     }
     if let Ok(v) = std::env::var("VTOL") {
         params.velocity.tolerance_factor = v.parse().unwrap();
@@ -70,9 +77,6 @@ fn restart_from_a_frame() {
         params.velocity.patch_radius = v.parse().unwrap();
     }
 
-    if std::env::var("PGS_ONLY").is_ok() {
-        params.acceleration.iterative_solver = pellet_sim::IterativeSolver::Pgs;
-    }
     let poses: Vec<([f64; 3], [f64; 4])> =
         frame.positions.iter().copied().zip(frame.orientations.iter().copied()).collect();
     let mut world = common::restart_world(&config, params, &pellet, &poses);

@@ -11,7 +11,8 @@
 //! paper mode, or `pack`'s default contact model with `PELLET_BENCH_MODE=recommended`;
 //! `PELLET_BENCH_EXACT_ROWS` (default 64) the largest island solved by Baraff's method
 //! (`pack` uses 16); `PELLET_BENCH_EXACT_FALLBACK` (default 0) the largest unconverged
-//! iterative island solved again by Baraff (`pack` uses 64); `PELLET_BENCH_SOLVER=pgs` plain PGS instead of APGD for larger islands;
+//! iterative island solved again by Baraff (`pack` uses 64); `PELLET_BENCH_SOLVER=apgd` or `mprgp` the solver of larger islands (default
+//! as `pack`: MPRGP for spheres, APGD otherwise);
 //! `PELLET_BENCH_TOL` the solver tolerance as a factor of g (default 1e-4).
 //!
 //! Printed per case: tube, wall and simulated time, substeps, contacts per substep (all /
@@ -63,7 +64,6 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
         solver_tolerance_factor: env("PELLET_BENCH_TOL", 1e-4),
         coupled_friction_nncg: env("PELLET_BENCH_NNCG", 1.0) != 0.0,
         iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
-            Ok("pgs") => IterativeSolver::Pgs,
             Ok("apgd") => IterativeSolver::Apgd,
             Ok("mprgp") => IterativeSolver::Mprgp,
             // As `pack`: MPRGP for spheres, APGD for other shapes.

@@ -21,8 +21,6 @@ pub enum FrictionClamp {
 pub enum IterativeSolver {
     /// Accelerated projected gradient descent (Nesterov), PGS as fallback.
     Apgd,
-    /// Projected Gauss–Seidel only.
-    Pgs,
     /// MPRGP (conjugate gradients with proportioning and projections), PGS as fallback.
     Mprgp,
 }

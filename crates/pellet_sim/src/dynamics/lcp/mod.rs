@@ -182,8 +182,8 @@ pub(crate) fn residual_with_diag(diag: impl Fn(usize) -> Real, b: &[Real], f: &[
 }
 
 /// Solves an island's LCP (Baraff to `exact_tol`, iterative solvers to `tol`) with the solver its size calls for: Baraff up to `max_exact` rows
-/// (falling back to PGS if pivoting fails), else the iterative solver (APGD or MPRGP with a PGS polish,
-/// or PGS alone). `f` carries the warm start for the iterative path. PGS after APGD or MPRGP
+/// (falling back to PGS if pivoting fails), else the iterative solver (APGD or MPRGP with a PGS
+/// polish). `f` carries the warm start for the iterative path. PGS after APGD or MPRGP
 /// stops once its cap is out of reach ([`cap_out_of_reach`]); with `exact_follows` (the caller
 /// solves the island again by Baraff when this ends unconverged) APGD does too.
 #[allow(clippy::too_many_arguments)]
@@ -208,16 +208,14 @@ pub fn solve_auto(
     let first = match solver {
         IterativeSolver::Apgd => {
             let mut apgd = apgd::Apgd { max_iterations: apgd_iterations, stall_test: exact_follows };
-            Some(apgd.solve(a, b, f, tol))
+            apgd.solve(a, b, f, tol)
         }
-        IterativeSolver::Mprgp => Some(mprgp::Mprgp { max_iterations: apgd_iterations }.solve(a, b, f, tol)),
-        IterativeSolver::Pgs => None,
+        IterativeSolver::Mprgp => mprgp::Mprgp { max_iterations: apgd_iterations }.solve(a, b, f, tol),
     };
-    if let Some(rep) = first.filter(|r| r.status == LcpStatus::Converged) {
-        return rep;
+    if first.status == LcpStatus::Converged {
+        return first;
     }
-    let mut rep =
-        pgs::Pgs { max_iterations: pgs_iterations, sor: 1.0, stall_test: first.is_some() }.solve(a, b, f, tol);
-    rep.iterations += first.map_or(0, |r| r.iterations);
+    let mut rep = pgs::Pgs { max_iterations: pgs_iterations, sor: 1.0, stall_test: true }.solve(a, b, f, tol);
+    rep.iterations += first.iterations;
     rep
 }
