@@ -43,6 +43,8 @@ pub struct BedResult {
     pub poses: Option<PathBuf>,
     /// The source of the `pack` that ran the bed (settle-check's `build`), if recorded.
     pub build: Option<String>,
+    /// The time-stepping scheme that ran the bed (settle-check's `stepper`), if recorded.
+    pub stepper: Option<String>,
 }
 
 /// A row and what exists of its beds.
@@ -140,6 +142,7 @@ fn read_bed(dirs: &[&Path], id: &str) -> Result<Option<BedResult>> {
         pack_timed,
         poses,
         build: settle.as_ref().and_then(|v| v["build"].as_str()).map(String::from),
+        stepper: settle.as_ref().and_then(|v| v["stepper"].as_str()).map(String::from),
     }))
 }
 

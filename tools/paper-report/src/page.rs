@@ -300,7 +300,7 @@ fn mean_and_spread(mean: f64, std: f64, n: usize) -> String {
 }
 
 /// Which `pack` builds ran the finished beds, most beds first: the engine changed while the
-/// study ran, and a bed is reproduced bit for bit only by its own build.
+/// study ran, and a bed is reproduced bit for bit only by its own build. Then which steppers.
 fn builds_line(beds: &[&crate::collect::BedResult]) -> String {
     let counts = crate::progress::merge_builds(beds.iter().map(|b| (b.build.clone(), 1)));
     let parts: Vec<String> = counts
@@ -310,9 +310,19 @@ fn builds_line(beds: &[&crate::collect::BedResult]) -> String {
             format!("{what}: {n}")
         })
         .collect();
+    let steppers = crate::progress::merge_builds(beds.iter().map(|b| (b.stepper.clone(), 1)));
+    let steppers: Vec<String> = steppers
+        .iter()
+        .map(|(stepper, n)| {
+            let what =
+                stepper.as_ref().map_or("not recorded (an older `settle-check`)".to_string(), |s| format!("`{s}`"));
+            format!("{what}: {n}")
+        })
+        .collect();
     format!(
-        "Engine builds that ran the finished beds (`pack`'s source as recorded in each trajectory; a bed is reproduced bit for bit by its own build): {}.",
-        parts.join("; ")
+        "Engine builds that ran the finished beds (`pack`'s source as recorded in each trajectory; a bed is reproduced bit for bit by its own build): {}. Steppers (`pack --stepper`): {}.",
+        parts.join("; "),
+        steppers.join("; ")
     )
 }
 
@@ -336,6 +346,7 @@ mod tests {
             pack_timed: true,
             poses: None,
             build: build.map(String::from),
+            stepper: None,
         }
     }
 
@@ -344,7 +355,8 @@ mod tests {
         let beds = [bed(Some("git b")), bed(None), bed(Some("git a")), bed(Some("git b"))];
         let refs: Vec<&BedResult> = beds.iter().collect();
         let line = builds_line(&refs);
-        assert!(line.ends_with(": `git b`: 2; `git a`: 1; not recorded (an older `pack`): 1."), "{line}");
+        assert!(line.contains(": `git b`: 2; `git a`: 1; not recorded (an older `pack`): 1."), "{line}");
+        assert!(line.ends_with("Steppers (`pack --stepper`): not recorded (an older `settle-check`): 4."), "{line}");
     }
 
     #[test]

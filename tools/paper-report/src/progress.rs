@@ -164,6 +164,7 @@ mod tests {
             pack_timed: true,
             poses: None,
             build: build.map(String::from),
+            stepper: None,
         }
     }
 

@@ -152,6 +152,7 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
             "damaged": !trajectory.damaged.is_empty(),
             // The source of the `pack` that made the trajectory (null before it was recorded).
             "build": trajectory.run.get("build"),
+            "stepper": recorded_stepper(&trajectory),
         }))? + "\n"
     } else {
         render(&report, &criteria, frame, history.last().map(|s| s.pellets).unwrap_or(0))
@@ -164,6 +165,15 @@ pub fn run(args: Args) -> anyhow::Result<Outcome> {
         pellet_cli::print_stdout(&report_text)?;
     }
     Ok(if report.settled { Outcome::Success } else { Outcome::CheckFailed })
+}
+
+/// The time-stepping scheme `pack` ran (`velocity` or `acceleration`) as its recorded
+/// configuration says; a configuration from before the choice existed was the force-level
+/// stepper's. None without a readable configuration.
+fn recorded_stepper(t: &Trajectory) -> Option<String> {
+    let config: serde_json::Value = serde_json::from_str(t.run.get("config")?).ok()?;
+    let config = config.as_object()?;
+    Some(config.get("stepper").and_then(|s| s.as_str()).unwrap_or("acceleration").to_string())
 }
 
 fn pellet_types(t: &Trajectory, path: &str) -> anyhow::Result<Vec<pellet_geom::Pellet>> {

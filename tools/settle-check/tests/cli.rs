@@ -92,6 +92,8 @@ fn an_unsettled_run_exits_1_and_says_why() {
     assert_eq!(v["settled"], false);
     // The build of the `pack` that wrote the trajectory is passed on.
     assert_eq!(v["build"], "git 0123456789ab");
+    // And its stepper: a configuration that does not name one was the force-level stepper's.
+    assert_eq!(v["stepper"], "acceleration");
     // Energy still falls linearly, by 0.15/1.15 of its value per window.
     assert!(v["reason"].as_str().unwrap().contains("kinetic energy still changes"), "{v}");
 }
