@@ -97,6 +97,8 @@ pub struct PackOptions {
     pub step_travel: Option<f64>,
     /// Longest step (s; velocity-level stepper).
     pub max_step: Option<f64>,
+    /// Factor on the force-level stepper's substep rule (its slip per substep and its cap).
+    pub substep_scale: Option<f64>,
 }
 
 /// Which contact model the engine uses.
@@ -196,7 +198,8 @@ impl PackOptions {
             stepper,
             contact_patch,
             step_travel,
-            max_step
+            max_step,
+            substep_scale
         )
     }
 }
@@ -288,6 +291,14 @@ pub struct PackConfig {
     /// read as 1.25 ms, the value that wrote them.
     #[serde(default = "recorded_max_step")]
     pub max_step_s: f64,
+    /// Factor on the force-level stepper's substep rule: its slip per substep (0.2λ) and its
+    /// cap. Archives written before it existed read as 1, the rule that wrote them.
+    #[serde(default = "recorded_substep_scale")]
+    pub substep_scale: f64,
+}
+
+fn recorded_substep_scale() -> f64 {
+    1.0
 }
 
 fn recorded_step_travel() -> f64 {
@@ -404,6 +415,7 @@ impl PackConfig {
             contact_patch_dp: check("contact-patch", o.contact_patch.unwrap_or(DEFAULT_CONTACT_PATCH))?,
             step_travel_dp: check("step-travel", o.step_travel.unwrap_or(VelocityParams::default().travel))?,
             max_step_s: check("max-step", o.max_step.unwrap_or(VelocityParams::default().max_step))?,
+            substep_scale: check("substep-scale", o.substep_scale.unwrap_or(1.0))?,
         })
     }
 }

@@ -84,6 +84,7 @@ pub(crate) const KEYS: &[(&str, Kind)] = &[
     // pellet in one step would pass contacts that the step's near set cannot hold.
     ("step-travel", above(0.0, 0.1, " dp")),
     ("max-step", above(0.0, 0.005, " s")),
+    ("substep-scale", above(0.0, 1.0, "")),
 ];
 
 /// What `key` takes; `None` for a key `pack` does not have.
@@ -168,6 +169,7 @@ mod tests {
             contact_patch: Some(1.0),
             step_travel: Some(1.0),
             max_step: Some(1.0),
+            substep_scale: Some(1.0),
         };
         let fields = match serde_json::to_value(all).unwrap() {
             serde_json::Value::Object(m) => m.keys().cloned().collect::<Vec<_>>(),

@@ -163,7 +163,8 @@ pub fn engine_params(config: &PackConfig) -> EngineParams {
             exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS,
             exact_fallback_max_rows: EXACT_FALLBACK_MAX_ROWS,
             eps_f: eps,
-            dt_cap: base.acceleration.dt_cap.min(0.5 * eps / g),
+            dt_cap: base.acceleration.dt_cap.min(0.5 * eps / g) * config.substep_scale,
+            slip_fraction: base.acceleration.slip_fraction * config.substep_scale,
             friction_clamp,
             ..base.acceleration
         },

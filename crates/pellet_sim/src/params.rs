@@ -108,6 +108,10 @@ pub struct AccelerationParams {
     /// existed read as `Speed`, the bound they were run with.
     #[serde(default = "ApproachBound::speed")]
     pub approach_bound: ApproachBound,
+    /// The substep rule's slip: δt = `slip_fraction` · λ / v_max (then capped at `dt_cap`).
+    /// Serialised parameters from before it existed read as 0.2, the rule they were run with.
+    #[serde(default = "AccelerationParams::recorded_slip_fraction")]
+    pub slip_fraction: Real,
 }
 
 impl Default for AccelerationParams {
@@ -128,11 +132,16 @@ impl Default for AccelerationParams {
             apgd_max_iterations: 200,
             pgs_max_iterations: 500,
             approach_bound: ApproachBound::Normal,
+            slip_fraction: 0.2,
         }
     }
 }
 
 impl AccelerationParams {
+    fn recorded_slip_fraction() -> Real {
+        0.2
+    }
+
     /// The recommended (non-paper) contact model: static friction, stick clamp, velocity bias.
     pub fn recommended() -> Self {
         Self { static_friction: true, friction_clamp: FrictionClamp::Stick, velocity_bias: true, ..Self::default() }

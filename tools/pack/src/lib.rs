@@ -145,6 +145,11 @@ pub struct Args {
     /// without it continues a run with its own].
     #[arg(long, value_name = "S")]
     max_step: Option<f64>,
+    /// Under the force-level stepper, a factor (0 to 1) on its substep rule: the slip per
+    /// substep (0.2 of the contact band) and the substep's cap; halving it checks that a bed
+    /// does not depend on the substep [default: 1].
+    #[arg(long, value_name = "F")]
+    substep_scale: Option<f64>,
     /// Simulated time limit (s; a whole number of the 0.005 s engine steps) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
@@ -285,6 +290,7 @@ impl Args {
             contact_patch: self.contact_patch,
             step_travel: self.step_travel,
             max_step: self.max_step,
+            substep_scale: self.substep_scale,
         }
     }
 }

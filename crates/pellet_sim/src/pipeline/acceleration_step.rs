@@ -45,7 +45,7 @@ impl World {
             }
             let mut dt = remaining.min(cap).min(prox.t_safe);
             if prox.v_max > 0.0 {
-                dt = dt.min(0.2 * self.lambda() / prox.v_max);
+                dt = dt.min(self.params.acceleration.slip_fraction * self.lambda() / prox.v_max);
             }
             self.acceleration_substep(dt, &prox, pipeline, report)?;
         }
