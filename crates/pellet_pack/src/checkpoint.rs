@@ -205,8 +205,9 @@ mod v1 {
 }
 
 /// Settings that may differ between a run and its continuation: where the pellet file is
-/// (its bytes are compared instead), when to stop, how often to checkpoint, the viewer.
-const MAY_CHANGE: [&str; 4] = ["pellet", "max_time_s", "checkpoint_every_s", "foxglove"];
+/// (its bytes are compared instead), when to stop, how often to checkpoint, the viewer, and
+/// the threads (any number gives the same frames).
+const MAY_CHANGE: [&str; 5] = ["pellet", "max_time_s", "checkpoint_every_s", "foxglove", "threads"];
 
 /// The settings in which `config` differs from the run recorded with `recorded_json` (the
 /// trajectory's `config` metadata), as the flags a user types: "--count 20 → 21"; empty if it
@@ -356,6 +357,22 @@ mod tests {
         let mut halved = velocity.clone();
         halved.max_step_s = 6.25e-4;
         assert_eq!(resume_conflicts(&old, &halved), ["--max-step 0.00125 → 0.000625"]);
+    }
+
+    /// The threads may change on resume (any number gives the same frames), also from a run
+    /// recorded before they were a setting.
+    #[test]
+    fn a_run_resumes_on_any_number_of_threads() {
+        let mut two = config(None);
+        two.threads = 2;
+        let recorded = serde_json::to_string(&two).unwrap();
+        let mut old = serde_json::to_value(&two).unwrap();
+        old.as_object_mut().unwrap().remove("threads");
+        for threads in [1, 2, 7] {
+            let now = PackConfig { threads, ..two.clone() };
+            assert!(resume_conflicts(&recorded, &now).is_empty(), "{threads}");
+            assert!(resume_conflicts(&old.to_string(), &now).is_empty(), "{threads}");
+        }
     }
 
     /// The settings are named as the flags are typed, in the flags' units.

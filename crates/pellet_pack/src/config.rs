@@ -99,6 +99,8 @@ pub struct PackOptions {
     pub max_step: Option<f64>,
     /// Factor on the force-level stepper's substep rule (its slip per substep and its cap).
     pub substep_scale: Option<f64>,
+    /// Threads of the engine (default: the machine's cores).
+    pub threads: Option<u32>,
 }
 
 /// Which contact model the engine uses.
@@ -199,7 +201,8 @@ impl PackOptions {
             contact_patch,
             step_travel,
             max_step,
-            substep_scale
+            substep_scale,
+            threads
         )
     }
 }
@@ -299,6 +302,24 @@ pub struct PackConfig {
 
 fn recorded_substep_scale() -> f64 {
     1.0
+    /// Threads of the engine. Any number gives the same bed bit for bit, so a run may resume
+    /// with another (`checkpoint::MAY_CHANGE`); it is recorded to tell what the run's times
+    /// were measured with. Archives written before it was a setting read as 1, the one thread
+    /// that wrote them.
+    #[serde(default = "recorded_threads")]
+    pub threads: u32,
+}
+
+fn recorded_threads() -> u32 {
+    1
+}
+
+/// Most threads `--threads` takes.
+pub const MAX_THREADS: u32 = 1024;
+
+/// The threads of a run that does not choose: the cores this process may use (1 if unknown).
+pub fn default_threads() -> u32 {
+    std::thread::available_parallelism().map_or(1, |n| u32::try_from(n.get()).unwrap_or(MAX_THREADS).min(MAX_THREADS))
 }
 
 fn recorded_step_travel() -> f64 {
@@ -416,6 +437,13 @@ impl PackConfig {
             step_travel_dp: check("step-travel", o.step_travel.unwrap_or(VelocityParams::default().travel))?,
             max_step_s: check("max-step", o.max_step.unwrap_or(VelocityParams::default().max_step))?,
             substep_scale: check("substep-scale", o.substep_scale.unwrap_or(1.0))?,
+            threads: match o.threads {
+                Some(n) if !(1..=MAX_THREADS).contains(&n) => {
+                    return Err(ConfigError(format!("--threads must be in [1, {MAX_THREADS}] (got {n})")))
+                }
+                Some(n) => n,
+                None => default_threads(),
+            },
         })
     }
 }
@@ -532,6 +560,7 @@ mod tests {
             (PackOptions { count: Some(4_000_000_000), ..base() }, "--count must be in [1, 1000000]"),
             (PackOptions { pellet: None, ..base() }, "--pellet is required"),
             (PackOptions { resting_band: Some(0.0), ..base() }, "--resting-band must be in [0.0001, 0.1] m/s"),
+            (PackOptions { threads: Some(0), ..base() }, "--threads must be in [1, 1024] (got 0)"),
         ] {
             let err = PackConfig::resolve(&o).unwrap_err().to_string();
             assert!(err.contains(needle), "{err}");

@@ -201,7 +201,7 @@ pub fn resume_pack(
     };
     let mass = config.density_kg_m3 * pellet.properties.volume;
     let spheres = pellet.is_sphere();
-    let mut pipeline = Pipeline::new();
+    let mut pipeline = Pipeline::new().with_threads(config.threads as usize);
     let mut run = RunState {
         feeding: true,
         next_entry: 0.0,
@@ -217,7 +217,7 @@ pub fn resume_pack(
         Some(c) => {
             let time_s = c.time_s();
             world.restore(c.world).map_err(|e| PackError::Engine { time_s, message: e.to_string() })?;
-            pipeline = Pipeline::with_warm_state(&c.warm, &c.impulses);
+            pipeline = Pipeline::with_warm_state(&c.warm, &c.impulses).with_threads(config.threads as usize);
             feeder.set_state(c.feeder);
             run = RunState { ending: None, ..c.run };
         }

@@ -2,7 +2,7 @@
 //! key, the value and what is allowed) and for [`PackConfig::resolve`](crate::PackConfig::resolve)
 //! (which checks the merged flags and file against the same ranges).
 
-use crate::config::{MAX_COUNT, MAX_LENGTH_MM};
+use crate::config::{MAX_COUNT, MAX_LENGTH_MM, MAX_THREADS};
 
 /// The numbers a setting takes: `lo` to `hi` (`lo` itself excluded when `lo_open`), in `unit`
 /// as the flag messages print it (" mm", "°", or "" for a pure number).
@@ -85,6 +85,7 @@ pub(crate) const KEYS: &[(&str, Kind)] = &[
     ("step-travel", above(0.0, 0.1, " dp")),
     ("max-step", above(0.0, 0.005, " s")),
     ("substep-scale", above(0.0, 1.0, "")),
+    ("threads", Kind::Whole(1, MAX_THREADS as u64)),
 ];
 
 /// What `key` takes; `None` for a key `pack` does not have.
@@ -170,6 +171,7 @@ mod tests {
             step_travel: Some(1.0),
             max_step: Some(1.0),
             substep_scale: Some(1.0),
+            threads: Some(1),
         };
         let fields = match serde_json::to_value(all).unwrap() {
             serde_json::Value::Object(m) => m.keys().cloned().collect::<Vec<_>>(),

@@ -46,6 +46,7 @@ contact-patch = 1e-3
 step-travel = 0.025
 max-step = 1.25e-3
 substep-scale = 1
+threads = 2
 "#;
 
 /// Reads and resolves a case file; every error is one readable line.

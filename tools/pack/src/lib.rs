@@ -150,6 +150,11 @@ pub struct Args {
     /// does not depend on the substep [default: 1].
     #[arg(long, value_name = "F")]
     substep_scale: Option<f64>,
+    /// Threads of the engine, 1 to 1024 (1: one thread). Any number gives the same bed bit for
+    /// bit; --resume may change it. The contact generation runs on them, the rest of a
+    /// step on one [default: the machine's cores].
+    #[arg(long, value_name = "N")]
+    threads: Option<u32>,
     /// Simulated time limit (s; a whole number of the 0.005 s engine steps) [default: 120].
     #[arg(long, value_name = "S")]
     max_time: Option<f64>,
@@ -167,7 +172,7 @@ pub struct Args {
     checkpoint_every: Option<f64>,
     /// Continue the run of this output from its last checkpoint: a killed run (`<output>.part`), or
     /// one that was interrupted or reached its --max-time (`<output>`; give a larger --max-time).
-    /// The settings must be the run's own (--max-time, --checkpoint-every and --foxglove may change).
+    /// The settings must be the run's own (--max-time, --checkpoint-every, --foxglove and --threads may change).
     /// The result equals the uninterrupted run frame for frame. A damaged chunk is skipped (its
     /// frames are missing); a partial run none of whose checkpoints reads is refused and kept.
     /// Without a partial run, or one killed before its first checkpoint, the run starts over.
@@ -291,6 +296,7 @@ impl Args {
             step_travel: self.step_travel,
             max_step: self.max_step,
             substep_scale: self.substep_scale,
+            threads: self.threads,
         }
     }
 }

@@ -12,7 +12,7 @@ use super::contact_sampled::{sampled_feature, sampled_pair, sphere_shape};
 use super::contact_shape_wall::{shape_wall, shape_wall_feature};
 use super::contact_sphere_sphere::sphere_sphere;
 use super::contact_sphere_wall::sphere_wall;
-use super::sample_cache::SampleCache;
+use super::sample_cache::{PairSamples, SampleCache};
 use super::samples::TypeGeometry;
 use crate::body::Body;
 use crate::container::{Container, WallId};
@@ -64,6 +64,32 @@ pub fn collide_pair_kept(
     out: &mut Vec<Contact>,
 ) -> Result<(), SimError> {
     collide(a, b, max_gap, Some(cache), kept, true, out)
+}
+
+/// Whether pair (a, b) is sampled (neither is a sphere): the pairs whose contacts use a
+/// [`PairSamples`] entry of the sample cache.
+pub fn is_sampled_pair(a: &ShapeDesc, b: &ShapeDesc) -> bool {
+    !matches!(a, ShapeDesc::Sphere { .. }) && !matches!(b, ShapeDesc::Sphere { .. })
+}
+
+/// [`collide_pair_cached`] (`lean`: [`collide_pair_kept`]) with the pair's own entry of the
+/// sample cache, taken out of it (`None` for a pair that [`is_sampled_pair`] says is not
+/// sampled, or to keep nothing): the same contacts, with no shared state, so that pairs can be
+/// collided on several threads.
+pub fn collide_pair_with(
+    a: Pellet<'_>,
+    b: Pellet<'_>,
+    max_gap: Real,
+    samples: Option<&mut PairSamples>,
+    kept: &[u32],
+    lean: bool,
+    out: &mut Vec<Contact>,
+) -> Result<(), SimError> {
+    match sphere_pair(a, b, max_gap) {
+        Some(one) => out.extend(one),
+        None => sampled_pair(a, b, max_gap, samples, kept, lean, out),
+    }
+    Ok(())
 }
 
 fn collide(

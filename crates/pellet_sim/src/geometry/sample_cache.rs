@@ -104,6 +104,18 @@ impl SampleCache {
         (self.pairs.values().map(|(_, p)| p.builds()).sum(), self.lookups)
     }
 
+    /// The entry of pair (i, j) taken out of the cache (empty if new), counted as a lookup:
+    /// to be worked on apart from the cache and [`Self::put`] back in the same round.
+    pub fn take(&mut self, i: usize, j: usize) -> PairSamples {
+        self.lookups += 1;
+        self.pairs.remove(&(i, j)).map(|(_, p)| p).unwrap_or_default()
+    }
+
+    /// Puts back the entry of pair (i, j) taken with [`Self::take`], as looked up this round.
+    pub fn put(&mut self, i: usize, j: usize, samples: PairSamples) {
+        self.pairs.insert((i, j), (self.round, samples));
+    }
+
     /// The entry of pair (i, j), created empty if new.
     pub fn entry(&mut self, i: usize, j: usize) -> &mut PairSamples {
         self.lookups += 1;

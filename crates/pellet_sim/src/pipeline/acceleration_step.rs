@@ -52,7 +52,13 @@ impl World {
         Ok(())
     }
 
-    fn narrow_phase(&self, prox: &Proximity, max_gap: Real, cache: &mut SampleCache) -> Result<Vec<Contact>, SimError> {
+    fn narrow_phase(
+        &self,
+        prox: &Proximity,
+        max_gap: Real,
+        cache: &mut SampleCache,
+        threads: usize,
+    ) -> Result<Vec<Contact>, SimError> {
         // Room for one contact per pair and wall (what sphere beds give) without regrowing, and
         // for other shapes a reduced patch of 4 per pair and 8 per wall (4 points on each of
         // the two rims that rest on the floor): growing it contact by contact (a copy of the
@@ -60,8 +66,13 @@ impl World {
         // contact only, its regrowth under the wall contacts was still 1.9 % of 20 cylinders.
         let spheres = self.types.iter().all(|t| matches!(t.shape, ShapeDesc::Sphere { .. }));
         let (per_pair, per_wall) = if spheres { (1, 1) } else { (4, 8) };
-        let mut out = Vec::with_capacity(per_pair * prox.pairs.len() + per_wall * prox.walls.len());
         cache.next_round();
+        if threads > 1 {
+            let pairs = prox.pairs.iter().map(|&(i, j)| (i, j, max_gap));
+            let walls = prox.walls.iter().map(|&(k, wall)| (k, wall, max_gap));
+            return self.contacts_on_threads(pairs, walls, cache, None, threads);
+        }
+        let mut out = Vec::with_capacity(per_pair * prox.pairs.len() + per_wall * prox.walls.len());
         for &(i, j) in &prox.pairs {
             let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
             let pa = self.pellet(&self.bodies, i, ti);
@@ -92,7 +103,8 @@ impl World {
         loop {
             // Generate contacts a little ahead: up to the distance a pair can close in dt.
             let clock = std::time::Instant::now();
-            let contacts = self.narrow_phase(prox, delta_c + prox.v_max * dt, &mut pipeline.samples)?;
+            let contacts =
+                self.narrow_phase(prox, delta_c + prox.v_max * dt, &mut pipeline.samples, pipeline.threads)?;
             report.wall_seconds[0] += clock.elapsed().as_secs_f64();
             let (cor, mu): (Vec<Real>, Vec<Real>) = contacts
                 .iter()

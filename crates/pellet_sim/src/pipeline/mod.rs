@@ -1,11 +1,12 @@
 //! The world and its stepping: the world state, one step of either stepper, position projection
-//! as both call it, and the energy ledger.
+//! as both call it, the narrow phase on several threads, and the energy ledger.
 
 mod acceleration_step;
 mod ledger;
 mod projection;
 mod proximity;
 mod step;
+mod threads;
 mod velocity_step;
 mod world;
 

@@ -44,6 +44,9 @@ pub struct Pipeline {
     last: Vec<Contact>,
     last_forces: (Vec<Real>, Vec<Vec3>),
     last_records: std::cell::OnceCell<Vec<ContactRecord>>,
+    /// Threads of the narrow phase (0 or 1: the calling thread alone); any number gives the
+    /// same contacts bit for bit (`threads`).
+    pub(super) threads: usize,
 }
 
 /// A resting force of the last committed substep, kept by contact key as the next resting
@@ -83,6 +86,24 @@ impl Pipeline {
     /// Empty pipeline.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Collide the near pairs and walls of each step on `threads` threads (0 or 1: the calling
+    /// thread alone). The results do not depend on it: the contacts are the serial loop's,
+    /// bit for bit.
+    pub fn set_threads(&mut self, threads: usize) {
+        self.threads = threads;
+    }
+
+    /// `self` with [`Self::set_threads`].
+    pub fn with_threads(mut self, threads: usize) -> Self {
+        self.set_threads(threads);
+        self
+    }
+
+    /// The narrow phase's threads (as set; 0 and 1 both mean the calling thread alone).
+    pub fn threads(&self) -> usize {
+        self.threads
     }
 
     /// The warm forces the next step starts from, in key order.

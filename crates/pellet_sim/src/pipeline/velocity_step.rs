@@ -157,8 +157,14 @@ impl World {
     fn speculative_contacts(&self, near: &Near, h: Real, pipeline: &mut Pipeline) -> Result<Vec<Contact>, SimError> {
         let delta_c = self.params.contact_distance_factor * self.reference_size();
         let g = self.params.gravity.norm();
-        let mut out = Vec::with_capacity(near.pairs.len() + near.walls.len());
         pipeline.samples.next_round();
+        if pipeline.threads > 1 {
+            let pairs = near.pairs.iter().map(|&(i, j, s)| (i, j, delta_c + s * h));
+            let walls = near.walls.iter().map(|&(k, wall, s)| (k, wall, delta_c + s * h + g * h * h));
+            let memory = Some(pipeline.impulses.as_slice());
+            return self.contacts_on_threads(pairs, walls, &mut pipeline.samples, memory, pipeline.threads);
+        }
+        let mut out = Vec::with_capacity(near.pairs.len() + near.walls.len());
         let mut kept = Vec::new();
         for &(i, j, s) in &near.pairs {
             let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
@@ -371,7 +377,7 @@ struct Memory {
 }
 
 /// The features of pair (i, j)'s contacts of the last step (`memory` sorted by key), sorted.
-fn kept_features(memory: &[WarmImpulse], i: usize, j: usize, out: &mut Vec<u32>) {
+pub(super) fn kept_features(memory: &[WarmImpulse], i: usize, j: usize, out: &mut Vec<u32>) {
     out.clear();
     let of = |feature| ContactKey { a: i as u32, b: Counterpart::Body(j), feature };
     let from = memory.partition_point(|w| w.key < of(0));
