@@ -61,7 +61,8 @@ test-openfoam: build
 # _MODE tune it, see crates/pellet_sim/benches/pack_beds.rs), voidprof, and
 # bedexport's stages on a 600-sphere bed, the two steppers side by side (with
 # LIGGGHTS on the 690-sphere bed), and the velocity-level stepper beside rapier on
-# its 256-ring and 620-cylinder beds. Each stage's figures are shown and kept in $(BENCH_OUT)/STAGE.txt;
+# its 256-ring and 620-cylinder beds, and pack on one thread and two
+# (pipelines/bench-threads.sh). Each stage's figures are shown and kept in $(BENCH_OUT)/STAGE.txt;
 # at the end pipelines/benchmarks-md.sh writes them, with the machine and the
 # build, to BENCHMARKS.md (replaced whole, only by a run that got to the end).
 BENCH_OUT ?= $(OUT)/bench
@@ -81,6 +82,7 @@ bench:
 	$(CARGO) build --release --workspace --bins
 	@$(call bench_stage,steppers,bash pipelines/bench-steppers.sh $(BIN))
 	@$(call bench_stage,peers,STEPPERS=velocity bash pipelines/bench-steppers.sh $(BIN) "ring256 cyl620")
+	@$(call bench_stage,threads,bash pipelines/bench-threads.sh $(BIN))
 	sh pipelines/benchmarks-md.sh $(BENCH_OUT) BENCHMARKS.md
 
 # T14 (not a test: minutes of one core): 1000 spheres in a 100 mm
@@ -98,6 +100,8 @@ t14-sensitivity: build
 # 1..k only. The report is written from whatever beds exist, also when some
 # failed (the exit status is still the beds'). `+` marks the recipes as
 # recursive make, so `make -j2 paper` shares its job slots with them.
+# Every pipeline's beds run pack on THREADS threads each (default 1, so
+# `make -j2 paper` keeps two cores busy, not four); THREADS=k for fewer, bigger beds.
 PAPER_OUT ?= $(OUT)/paper
 PAPER_DOCS ?= docs/validation
 REPEATS ?=

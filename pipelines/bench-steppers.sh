@@ -36,7 +36,7 @@ one() {  # label pellet tube count seed stepper window yard
   local label=$1 pellet=$2 tube=$3 count=$4 seed=$5 stepper=$6 window=$7 yard=$8
   local t="$work/time" out="$work/run"
   /usr/bin/time -f "%U %S" -o "$t" "$BIN/pack" --pellet "$work/$pellet" --tube-diameter "$tube" --count "$count" \
-    --scheme batch --seed "$seed" --stepper "$stepper" -o "$out.mcap" >"$work/pack.log" 2>&1 || true
+    --scheme batch --seed "$seed" --stepper "$stepper" --threads 1 -o "$out.mcap" >"$work/pack.log" 2>&1 || true
   local cpu settled
   cpu=$(awk '{printf "%.2f", $1 + $2}' "$t")
   settled=$(grep -o 'settled at [0-9.]* s' "$work/pack.log" | awk '{print $3}')

@@ -106,7 +106,7 @@ $(RUNS)/%.mcap: $(CASES)/%.toml $(PELLETS) | $(RUNS)
 	  if [ -z "$$partial" ]; then rm -f $(RUNS)/$*.pack.time; \
 	  if [ -f $(PARKED)/$*.run.mcap ]; then cp $(PARKED)/$*.run.mcap $(RUNS)/$*.run.mcap; \
 	  if [ -f $(PARKED)/$*.pack.time ]; then cp $(PARKED)/$*.pack.time $(RUNS)/$*.pack.time; fi; fi; fi
-	$(call sched,$*) sh $(HERE)/timed.sh -a $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --resume --quiet \
+	$(call sched,$*) sh $(HERE)/timed.sh -a $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --resume --quiet --threads $(THREADS) \
 	  2> $(RUNS)/$*.pack.err || { cat $(RUNS)/$*.pack.err >&2; grep -q 'did not settle within --max-time' $(RUNS)/$*.pack.err; }
 	rm -f $(RUNS)/$*.pack.err
 	mv $(RUNS)/$*.run.mcap $@

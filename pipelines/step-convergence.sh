@@ -48,7 +48,7 @@ bed() {  # case scale seed → packs it unless done; its record is $OUT/<case>.<
     *) echo "step-convergence: unknown case $case (sph690, cyl300, with or without -force)" >&2; exit 2 ;;
   esac
   # shellcheck disable=SC2086
-  /usr/bin/time -f "%U %S" -o "$t.time" "$BIN/pack" $args --scheme batch --seed "$seed" $step \
+  /usr/bin/time -f "%U %S" -o "$t.time" "$BIN/pack" $args --scheme batch --seed "$seed" $step --threads "${THREADS:-1}" \
     --max-time 20 --quiet --force -o "$t.mcap" >"$t.log" 2>&1 || true
   grep -o 'settled at [0-9.]* s' "$t.log" | awk '{print $3}' >"$t.settled" || true
   "$BIN/settle-check" "$t.mcap" -o "$t.packing" >/dev/null 2>&1 &&

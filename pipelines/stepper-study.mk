@@ -117,7 +117,7 @@ $(RUNS)/%.mcap: $(CASES)/%.toml $(PELLETS) | $(RUNS)
 	partial=; for f in $(PARTIAL); do \
 	  if [ -f $$f ] && [ $< -nt $$f ]; then rm -f $$f; fi; if [ -f $$f ]; then partial=1; fi; done; \
 	  if [ -z "$$partial" ]; then rm -f $(RUNS)/$*.pack.time; fi
-	$(call sched,$*) sh $(PAPER)/timed.sh -a $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --resume --quiet \
+	$(call sched,$*) sh $(PAPER)/timed.sh -a $(RUNS)/$*.pack.time $(NICE) $(BIN)/pack --case $< -o $(RUNS)/$*.run.mcap --resume --quiet --threads $(THREADS) \
 	  2> $(RUNS)/$*.pack.err || { cat $(RUNS)/$*.pack.err >&2; grep -q 'did not settle within --max-time' $(RUNS)/$*.pack.err; }
 	rm -f $(RUNS)/$*.pack.err
 	mv $(RUNS)/$*.run.mcap $@

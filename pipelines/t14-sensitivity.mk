@@ -75,7 +75,7 @@ $(OUT)/%/bed.mcap: $(OUT)/sphere.pellet
 	mkdir -p $(@D)
 	rm -f $(@D)/run.mcap
 	$(call sched,$*) sh $(TIMED) $(@D)/pack.time $(NICE) $(BIN)/pack --pellet $< --tube-diameter $(TUBE) \
-	  --count $(COUNT) --scheme batch $(flags_$*) -o $(@D)/run.mcap --quiet || test -f $(@D)/run.mcap
+	  --count $(COUNT) --scheme batch $(flags_$*) --threads $(THREADS) -o $(@D)/run.mcap --quiet || test -f $(@D)/run.mcap
 	mv $(@D)/run.mcap $@
 
 # settle-check exits 1 for a bed that did not settle: its last frame is kept.

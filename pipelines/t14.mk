@@ -35,7 +35,7 @@ $(OUT)/sphere.pellet: | $(OUT)
 	$(BIN)/mkpellet sphere --diameter 10 -o $@
 
 $(OUT)/bed.mcap: $(OUT)/sphere.pellet
-	$(call sched,bed) $(BIN)/pack --pellet $< --tube-diameter 100 --count 1000 --scheme batch --seed $(SEED) -o $@
+	$(call sched,bed) $(BIN)/pack --pellet $< --tube-diameter 100 --count 1000 --scheme batch --seed $(SEED) --threads $(THREADS) -o $@
 
 $(OUT)/bed.packing: $(OUT)/bed.mcap
 	$(call sched,bed) $(BIN)/settle-check $< -o $@ --csv $(OUT)/poses.csv --json > $(OUT)/settle.json

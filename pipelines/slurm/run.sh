@@ -15,7 +15,7 @@
 #   --name BED        the bed, for the job name and the log
 #   --log FILE        the bed's log: every leg of every stage appends to it
 #   --mode M          auto (srun inside an allocation, else sbatch), srun, sbatch
-#   --cpus N          CPUs per stage (the engine runs on one)
+#   --cpus N          CPUs per stage (the pipelines give pack THREADS threads and ask for as many)
 #   --max-time T      the longest time limit to ask for, minutes
 #   --short-time T    the time limit of the stages other than pack, minutes
 #   --grace S         the warning signal comes S seconds before the time limit

@@ -17,8 +17,11 @@ SLURM_MAX_TIME ?= 1440
 SLURM_SHORT_TIME ?= 60
 SLURM_GRACE ?= 300
 SLURM_REQUEUES ?= 10
-# The engine runs on one core.
-SLURM_CPUS ?= 1
+# Threads of each bed's engine (pack --threads): one, so that `make -jN` runs N beds on N
+# cores without oversubscribing them; THREADS=k gives each bed k threads (and, under Slurm,
+# k CPUs).
+THREADS ?= 1
+SLURM_CPUS ?= $(THREADS)
 
 SCHED_RUN := $(patsubst %/,%,$(dir $(lastword $(MAKEFILE_LIST))))/run.sh
 ifeq ($(SCHEDULER),slurm)

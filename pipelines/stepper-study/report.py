@@ -234,8 +234,8 @@ def main():
     page = [
         "# The steppers' equivalence study",
         "",
-        "Beds packed by `pack --stepper velocity` against the force-level beds (`--stepper acceleration`,",
-        "`pack`'s default) of the same cases: the paper's validation tubes (its case files, bit for bit,",
+        "Beds packed by `pack --stepper velocity` (`pack`'s default) against the force-level beds",
+        "(`--stepper acceleration`, the paper's formulation) of the same cases: the paper's validation tubes (its case files, bit for bit,",
         "with the stepper changed; the force-level records are the paper study's, in",
         "[runs/](runs/)) and the 690-sphere batch bed. Written by `make stepper-study-report`",
         "(`pipelines/stepper-study/report.py`) from the records in",
@@ -252,6 +252,9 @@ def main():
         "(different engines and machines: see reproducing.md).",
         "",
         status,
+        "",
+        "Where a configuration fails, halving each stepper's step decides which of the two is off:",
+        "[convergence in the step](../engine.md#convergence-in-the-step) (`pipelines/step-convergence.sh`).",
         "",
         "| configuration | velocity ε ± s.e. (n) | force-level ε ± s.e. (n) | difference (in s.e.) | porosity "
         "| profile RMSE (scatter) | profile | pack s, v / f |",

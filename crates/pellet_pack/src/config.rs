@@ -298,10 +298,6 @@ pub struct PackConfig {
     /// cap. Archives written before it existed read as 1, the rule that wrote them.
     #[serde(default = "recorded_substep_scale")]
     pub substep_scale: f64,
-}
-
-fn recorded_substep_scale() -> f64 {
-    1.0
     /// Threads of the engine. Any number gives the same bed bit for bit, so a run may resume
     /// with another (`checkpoint::MAY_CHANGE`); it is recorded to tell what the run's times
     /// were measured with. Archives written before it was a setting read as 1, the one thread
@@ -312,6 +308,10 @@ fn recorded_substep_scale() -> f64 {
 
 fn recorded_threads() -> u32 {
     1
+}
+
+fn recorded_substep_scale() -> f64 {
+    1.0
 }
 
 /// Most threads `--threads` takes.

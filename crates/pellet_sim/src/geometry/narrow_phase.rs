@@ -101,11 +101,9 @@ fn collide(
     lean: bool,
     out: &mut Vec<Contact>,
 ) -> Result<(), SimError> {
-    match sphere_pair(a, b, max_gap) {
-        Some(one) => out.extend(one),
-        None => sampled_pair(a, b, max_gap, cache.map(|c| c.entry(a.index, b.index)), kept, lean, out),
-    }
-    Ok(())
+    // Only a sampled pair has an entry: a sphere pair's would be made for nothing.
+    let samples = cache.filter(|_| is_sampled_pair(a.shape, b.shape)).map(|c| c.entry(a.index, b.index));
+    collide_pair_with(a, b, max_gap, samples, kept, lean, out)
 }
 
 /// The one contact of a pair with a sphere in it (`Some(None)`: farther apart than `max_gap`);
