@@ -359,6 +359,19 @@ mod tests {
         assert_eq!(resume_conflicts(&old, &halved), ["--max-step 0.00125 → 0.000625"]);
     }
 
+    /// A run recorded before the substep scale was a setting ran the substep rule unscaled: it
+    /// resumes with scale 1, and a halved substep is a change.
+    #[test]
+    fn a_run_recorded_before_the_substep_scale_had_the_whole_substep() {
+        let force = config(Some(Stepper::Acceleration));
+        let mut old = serde_json::to_value(&force).unwrap();
+        old.as_object_mut().unwrap().remove("substep_scale");
+        let old = old.to_string();
+        assert!(resume_conflicts(&old, &force).is_empty());
+        let halved = PackConfig { substep_scale: 0.5, ..force };
+        assert_eq!(resume_conflicts(&old, &halved), ["--substep-scale 1 → 0.5"]);
+    }
+
     /// The threads may change on resume (any number gives the same frames), also from a run
     /// recorded before they were a setting.
     #[test]
