@@ -8,7 +8,7 @@ use parry3d_f64::math::{Pose, Vector as PVector};
 use parry3d_f64::shape::SharedShape;
 use parry3d_f64::transformation::vhacd::{VHACDParameters, VHACD};
 
-use crate::math::{Point, Real};
+use crate::math::{Point, Real, UnitQuaternion, Vector};
 use crate::mesh::TriMesh;
 use crate::pieces::ConvexPiece;
 use crate::GeomError;
@@ -63,6 +63,38 @@ impl PieceSet {
     pub fn contains(&self, p: &Point) -> bool {
         self.shape.contains_local_point(to_parry(p))
     }
+}
+
+/// A solid cylinder (axis along its body z, centred on its body origin) placed in the world.
+#[derive(Clone, Copy, Debug)]
+pub struct PlacedCylinder {
+    /// Radius (m).
+    pub radius: Real,
+    /// Half of the height (m).
+    pub half_height: Real,
+    /// Centre (world, m).
+    pub centre: Point,
+    /// Body to world.
+    pub rotation: UnitQuaternion,
+}
+
+impl PlacedCylinder {
+    fn pose(&self) -> Pose {
+        let q = self.rotation.quaternion();
+        let body = Pose::from_parts(to_parry(&self.centre), parry3d_f64::math::Rotation::from_xyzw(q.i, q.j, q.k, q.w));
+        // parry's cylinder axis is local y; a +90° turn about x takes y to z.
+        body * Pose::new(PVector::ZERO, PVector::new(std::f64::consts::FRAC_PI_2, 0.0, 0.0))
+    }
+}
+
+/// The contact of two solid cylinders by parry's query on their exact shapes (GJK, and EPA
+/// where they overlap): (signed gap, the nearest point of each, the unit normal from `a`
+/// towards `b`), or `None` when they are farther apart than `max_gap`.
+pub fn cylinder_contact(a: &PlacedCylinder, b: &PlacedCylinder, max_gap: Real) -> Option<(Real, Point, Point, Vector)> {
+    let shape = |c: &PlacedCylinder| parry3d_f64::shape::Cylinder::new(c.half_height, c.radius);
+    let c = parry3d_f64::query::contact(&a.pose(), &shape(a), &b.pose(), &shape(b), max_gap).ok()??;
+    let n = c.normal1;
+    Some((c.dist, from_parry(&c.point1), from_parry(&c.point2), Vector::new(n.x, n.y, n.z)))
 }
 
 /// The convex hull of the points as a closed outward mesh.
