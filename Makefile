@@ -125,7 +125,7 @@ paper-park: build
 # $(PAPER_DOCS)/stepper-study.md, written also when some beds failed. Resumable: a bed with a
 # record is not run again. A subset: TUBES="val-sphere-D41 ..." (the paper's validation
 # configurations), SEEDS=k (seeds 1..k of each, default 6), SPHERE690_SEEDS=k (default 20;
-# empty: none). About 3 h of one core in all; `make -j2 stepper-study` runs two beds at once.
+# empty: none). About 4 h of one core in all; `make -j2 stepper-study` runs two beds at once.
 STEPPER_STUDY_OUT ?= $(OUT)/stepper-study
 STEPPER_STUDY = $(MAKE) --no-print-directory -f pipelines/stepper-study.mk BIN=$(BIN) OUT=$(STEPPER_STUDY_OUT) DOCS=$(PAPER_DOCS)
 
