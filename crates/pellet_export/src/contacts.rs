@@ -346,41 +346,50 @@ mod tests {
         }
     }
 
-    /// Two cylinders of a settled 20-cylinder bed (D = 30 mm), the second's curved side
-    /// touching the first's cap at its rim. The second's normal at the first's nearest vertex
-    /// does not separate them (the first reaches 7.8 mm past that plane, and a cap cut along
-    /// it took 511 mm³ of that pellet); the first's cap normal still left 0.29 mm of the
-    /// second's curved side past the plane. The exact contact of the two cylinders leaves
-    /// 0.001 mm of each.
-    #[test]
-    fn a_contact_normal_separates_the_two_pellets() {
-        let cyl =
-            Pellet::build(ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 }, Resolution::default()).unwrap();
-        let pose =
-            |mm: [Real; 3], orientation| PlacedPellet { type_index: 0, position: mm.map(|x| x * 1e-3), orientation };
+    /// Two pellets of `spec` at `poses` (centre in mm, orientation w, x, y, z) in a 30 mm tube:
+    /// their contact's gap (m), and how far (m) each reaches past the plane through its
+    /// midpoint along its normal (the plane a cap cuts along).
+    fn past_the_contact_plane(spec: ShapeSpec, poses: [([Real; 3], [Real; 4]); 2]) -> (Real, Real, Real) {
+        let pellet = Pellet::build(spec, Resolution::default()).unwrap();
         let b = Bed {
             tube: Tube { diameter: 0.03, lid_height: None },
-            pellet_types: vec![cyl],
-            pellets: vec![
-                pose(
-                    [3.064513634749823, -8.99017616883717, 12.46548783134918],
-                    [0.0887205835562855, 0.7820182294397346, 0.4952860113978071, 0.3677878652036065],
-                ),
-                pose(
-                    [-4.75981573836584, -6.9384165808269325, 22.022278665450578],
-                    [-0.740356053784457, 0.3519951077142928, 0.3582724913332724, -0.4467809079669362],
-                ),
-            ],
+            pellet_types: vec![pellet],
+            pellets: poses
+                .iter()
+                .map(|&(mm, orientation)| PlacedPellet { type_index: 0, position: mm.map(|x| x * 1e-3), orientation })
+                .collect(),
         };
         let contacts = find_contacts(&b, &[0, 1], 1e-4);
         let c = contacts.iter().find(|c| c.partner == Partner::Pellet(1)).expect("the pair touches");
-        assert!(c.gap.abs() < 1e-4, "gap {}", c.gap);
         let mid = c.midpoint();
         let reach = |k: usize, n: Vector| {
             let p = &b.pellets[k];
             b.pellet_types[0].mesh.vertices.iter().map(|v| n.dot(&(p.to_world(v) - mid))).fold(Real::MIN, Real::max)
         };
-        let (r0, r1) = (reach(0, c.normal), reach(1, -c.normal));
+        (c.gap, reach(0, c.normal), reach(1, -c.normal))
+    }
+
+    /// Two cylinders of a settled 20-cylinder bed (D = 30 mm), the second's curved side
+    /// touching the first's cap at its rim. The second's normal at the first's nearest vertex
+    /// does not separate them (the first reaches 7.8 mm past that plane, and a cap cut along
+    /// it took 511 mm³ of that pellet). The exact contact of the two cylinders leaves 0.001 mm
+    /// of each.
+    #[test]
+    fn a_contact_normal_separates_the_two_pellets() {
+        let (gap, r0, r1) = past_the_contact_plane(
+            ShapeSpec::Cylinder { diameter_mm: 10.0, height_mm: 10.0 },
+            [
+                (
+                    [3.064513634749823, -8.99017616883717, 12.46548783134918],
+                    [0.0887205835562855, 0.7820182294397346, 0.4952860113978071, 0.3677878652036065],
+                ),
+                (
+                    [-4.75981573836584, -6.9384165808269325, 22.022278665450578],
+                    [-0.740356053784457, 0.3519951077142928, 0.3582724913332724, -0.4467809079669362],
+                ),
+            ],
+        );
+        assert!(gap.abs() < 1e-4, "gap {gap}");
         assert!(r0 < 0.02e-3 && r1 < 0.02e-3, "past the contact plane: {:.3} mm and {:.3} mm", r0 * 1e3, r1 * 1e3);
     }
 
@@ -391,35 +400,19 @@ mod tests {
     /// ring's contact normal there.)
     #[test]
     fn a_ring_contact_takes_the_better_separating_normal() {
-        let ring = Pellet::build(
+        let (_, r0, r1) = past_the_contact_plane(
             ShapeSpec::Ring { outer_diameter_mm: 10.0, inner_diameter_mm: 6.0, height_mm: 10.0 },
-            Resolution::default(),
-        )
-        .unwrap();
-        let pose =
-            |mm: [Real; 3], orientation| PlacedPellet { type_index: 0, position: mm.map(|x| x * 1e-3), orientation };
-        let b = Bed {
-            tube: Tube { diameter: 0.03, lid_height: None },
-            pellet_types: vec![ring],
-            pellets: vec![
-                pose(
+            [
+                (
                     [7.389757881349915, 5.409834332404802, 34.78638908750541],
                     [-0.015062854907094744, 0.38706294441201294, -0.5056823636805197, -0.7708701152124354],
                 ),
-                pose(
+                (
                     [6.275251623077952, -6.054976475403134, 38.24099341264039],
                     [-0.38783801070933466, 0.2105800834784721, -0.8212382958644834, -0.3616702466291985],
                 ),
             ],
-        };
-        let contacts = find_contacts(&b, &[0, 1], 1e-4);
-        let c = contacts.iter().find(|c| c.partner == Partner::Pellet(1)).expect("the pair touches");
-        let mid = c.midpoint();
-        let reach = |k: usize, n: Vector| {
-            let p = &b.pellets[k];
-            b.pellet_types[0].mesh.vertices.iter().map(|v| n.dot(&(p.to_world(v) - mid))).fold(Real::MIN, Real::max)
-        };
-        let (r0, r1) = (reach(0, c.normal), reach(1, -c.normal));
+        );
         assert!(r0 < 0.5e-3 && r1 < 0.5e-3, "past the contact plane: {:.3} mm and {:.3} mm", r0 * 1e3, r1 * 1e3);
     }
 
