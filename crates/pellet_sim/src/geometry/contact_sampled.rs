@@ -9,9 +9,9 @@ use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwne
 use super::contact_lateral::{lateral_hit, on_outer_side, redundant_hit, LATERAL};
 use super::narrow_phase::Pellet;
 use super::patch::{patches, reduce, Hit, NEAR_BAND, WEDGE_COS};
-use super::rim_refine::{deepest_on_line, golden_min, rim_faces};
+use super::rim_refine::{deepest_on_line, rim_faces, rim_min, AngleNear};
 use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
-use super::samples::{cone_alignment, rim_point};
+use super::samples::cone_alignment;
 use super::sdf::{distance, edge_cone, edge_faces, eval, lipschitz};
 use crate::math::{axial_distance, Mat3, Real, Vec3};
 use crate::shape::ShapeDesc;
@@ -246,16 +246,17 @@ impl<'a> OneWay<'a> {
         let rim = &geo.rims[geo.rim_of[i] as usize];
         let step = TAU / rim.count as Real;
         let t0 = step * (i - rim.start) as Real;
-        let f = |t: Real| self.phi(&rim_point(rim.radius, rim.z, t));
-        let (t, phi) = golden_min(f, t0 - step, t0 + step);
-        let s = rim_point(rim.radius, rim.z, t);
+        let near = AngleNear::new(t0);
+        let f = |t: Real| self.phi(&near.rim_point(rim.radius, rim.z, t));
+        let (t, phi) = rim_min(f, t0 - step, t0 + step);
+        let s = near.rim_point(rim.radius, rim.z, t);
         let feature = i as u32 | REFINED;
         let mut best = self.hit(&s, i, feature, None);
         let len = EDGE_BAND * self.dst.geom.bounding_radius;
         if phi > max_gap + len {
             return best;
         }
-        for (dir, normal) in rim_faces(rim, t) {
+        for (dir, normal) in rim_faces(rim, t, &near) {
             let Some((u, _)) = deepest_on_line(|u| self.phi(&(s + dir * u)), phi, len) else {
                 continue;
             };

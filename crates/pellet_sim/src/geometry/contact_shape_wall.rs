@@ -11,14 +11,14 @@
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
 use super::narrow_phase::Pellet;
 use super::patch::{reduce, Hit, NEAR_BAND};
-use super::rim_refine::golden_min;
-use super::samples::rim_point;
+use super::rim_refine::{rim_min, AngleNear};
 use crate::container::{Container, WallId};
 use crate::math::{axial_distance, Mat3, Real, Vec3};
 use crate::shape::ShapeDesc;
 use std::f64::consts::TAU;
+use std::sync::OnceLock;
 
-/// Coarse angles scanned before the golden-section refinement of the tube-wall maximum.
+/// Coarse angles scanned before the refinement of the tube-wall maximum.
 const TUBE_SCAN: usize = 16;
 /// Sine of the tilt below which a rim's points on a plane stay fixed in the body
 /// (`square_direction`).
@@ -133,7 +133,7 @@ fn rim_wall(
 }
 
 /// The points of rim `k` of `a` nearest the tube wall, with their features: every local maximum
-/// of the radial distance ρ along the rim, refined by golden section from a coarse scan. There
+/// of the radial distance ρ along the rim, refined by Brent's method from a coarse scan. There
 /// are at most two: ρ² along a circle is a trigonometric polynomial of degree 2. A cap facing the
 /// wall touches it at two rim points, left and right of its centre, whose radial distances differ
 /// only by its tilt; one point alone let the cap turn about it into the wall. A single maximum
@@ -142,20 +142,29 @@ fn rim_wall(
 fn tube_points(a: &Pellet<'_>, rot: &Mat3, k: usize) -> Vec<(Vec3, u32)> {
     let rim = &a.geom.rims[k];
     let x = a.body.position;
-    let world = |t: Real| rot * rim_point(rim.radius, rim.z, t) + x;
-    let neg_rho = |t: Real| {
-        let p = world(t);
+    let world = |c: Real, s: Real| rot * Vec3::new(rim.radius * c, rim.radius * s, rim.z) + x;
+    let neg_rho = |c: Real, s: Real| {
+        let p = world(c, s);
         -axial_distance(p.x, p.y)
     };
     let step = TAU / TUBE_SCAN as Real;
-    let scan: Vec<Real> = (0..TUBE_SCAN).map(|s| neg_rho(step * s as Real)).collect();
+    let angles = scan_angles();
+    let mut scan = [0.0; TUBE_SCAN];
+    for (v, &(c, s)) in scan.iter_mut().zip(angles) {
+        *v = neg_rho(c, s);
+    }
     let mut found: Vec<(Real, Real)> = Vec::with_capacity(2);
     for s in 0..TUBE_SCAN {
         let (prev, next) = (scan[(s + TUBE_SCAN - 1) % TUBE_SCAN], scan[(s + 1) % TUBE_SCAN]);
         // A local minimum of −ρ among the scan (ties towards the lower index).
         if scan[s] <= prev && scan[s] < next {
             let t0 = step * s as Real;
-            let (t, v) = golden_min(neg_rho, t0 - step, t0 + step);
+            let near = AngleNear::new(t0);
+            let f = |t: Real| {
+                let (c, s) = near.cos_sin(t);
+                neg_rho(c, s)
+            };
+            let (t, v) = rim_min(f, t0 - step, t0 + step);
             let t = t.rem_euclid(TAU);
             let same = |u: Real| {
                 let d = (u - t).rem_euclid(TAU);
@@ -169,11 +178,17 @@ fn tube_points(a: &Pellet<'_>, rot: &Mat3, k: usize) -> Vec<(Vec3, u32)> {
     // A rim of a pellet upright on the floor is a horizontal circle with one maximum; the scan
     // finds at least one whenever the scan values are not all equal (a rim centred on the axis).
     if found.is_empty() {
-        found.push((0.0, neg_rho(0.0)));
+        found.push((0.0, neg_rho(1.0, 0.0)));
     }
     found.sort_by(|p, q| p.1.total_cmp(&q.1).then(p.0.total_cmp(&q.0)));
     found.truncate(2);
-    let points: Vec<Vec3> = found.iter().map(|&(t, _)| world(t)).collect();
+    let points: Vec<Vec3> = found
+        .iter()
+        .map(|&(t, _)| {
+            let (s, c) = t.sin_cos();
+            world(c, s)
+        })
+        .collect();
     if points.len() == 1 {
         return vec![(points[0], k as u32)];
     }
@@ -181,6 +196,17 @@ fn tube_points(a: &Pellet<'_>, rot: &Mat3, k: usize) -> Vec<(Vec3, u32)> {
     let side = |p: &Vec3| Vec3::z().cross(&centre).dot(&(p - centre));
     let first = if side(&points[0]) <= side(&points[1]) { 0 } else { 1 };
     vec![(points[first], k as u32), (points[1 - first], k as u32 + TUBE_SECOND)]
+}
+
+/// (cos, sin) of the tube scan's angles, computed once.
+fn scan_angles() -> &'static [(Real, Real); TUBE_SCAN] {
+    static ANGLES: OnceLock<[(Real, Real); TUBE_SCAN]> = OnceLock::new();
+    ANGLES.get_or_init(|| {
+        std::array::from_fn(|s| {
+            let (sin, cos) = (TAU / TUBE_SCAN as Real * s as Real).sin_cos();
+            (cos, sin)
+        })
+    })
 }
 
 /// The wall contact of mesh sample `i` of `a`.
@@ -238,7 +264,7 @@ pub fn shape_wall_feature(container: &Container, wall: WallId, a: Pellet<'_>, fe
             Some(make(&a, wall, h.pa, h.normal, h.gap, kin, h.feature))
         }
         _ => {
-            // Only the feature's own rim: evaluating every rim (each a golden-section search
+            // Only the feature's own rim: evaluating every rim (each a search
             // on the tube) to keep one contact was 2 % of 20 cylinders in allocations alone.
             let k = rim_of_feature(container, wall, feature);
             a.geom.rims.get(k).filter(|r| r.outer)?;
