@@ -7,7 +7,7 @@
 # pellets.stl closed and not self-intersecting, and blockMesh,
 # surfaceFeatureExtract, snappyHexMesh and checkMesh must give "Mesh OK",
 # one region, the patches inlet, outlet, wall and pellets, and a fluid
-# volume within 2 % of the tube minus the pellets (caps on every bed, bridges too on the rings);
+# volume within 2 % of the tube minus the pellets (caps and bridges on every bed);
 # BEDS="spheres rings" runs only those. Then simpleFoam on the
 # sphere bed's case, its pressure drop against Ergun's (see flow_bed). Fails (exit 1) when
 # OpenFOAM cannot be installed: it never passes by skipping. KEEP=1 keeps the case.
@@ -152,8 +152,8 @@ flow_bed() {
 beds=${BEDS:-spheres cylinders rings}
 for bed in $beds; do
     case $bed in
-        spheres) mesh_bed spheres caps sphere --diameter 10 && flow_bed spheres ;;
-        cylinders) mesh_bed cylinders caps cylinder --diameter 10 --height 10 ;;
+        spheres) mesh_bed spheres caps,bridges sphere --diameter 10 && flow_bed spheres ;;
+        cylinders) mesh_bed cylinders caps,bridges cylinder --diameter 10 --height 10 ;;
         rings) mesh_bed rings caps,bridges ring --outer-diameter 10 --inner-diameter 6 --height 10 ;;
         *) echo "test-openfoam: error: unknown bed $bed in BEDS (spheres, cylinders, rings)" >&2; exit 2 ;;
     esac
