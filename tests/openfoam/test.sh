@@ -3,13 +3,12 @@
 # pellets, 30 mm tube) made with the binaries in BIN, exported with
 # `bedexport --openfoam` (0.5 mm cells; the default caps, bridges and none, sized by dp, with
 # the contacts refined), meshed with OpenFOAM (Debian's openfoam package, installed when
-# missing): no treatment may warn (a porosity change over 0.01; caps on rings may, see below),
-# surfaceCheck must find
+# missing): no treatment may warn (a porosity change over 0.01), surfaceCheck must find
 # pellets.stl closed and not self-intersecting, and blockMesh,
 # surfaceFeatureExtract, snappyHexMesh and checkMesh must give "Mesh OK",
 # one region, the patches inlet, outlet, wall and pellets, and a fluid
-# volume within 2 % of the tube minus the pellets (caps on every bed, bridges too on the
-# rings); BEDS="spheres rings" runs only those. Then simpleFoam on the
+# volume within 2 % of the tube minus the pellets (caps and bridges on every bed);
+# BEDS="spheres rings" runs only those. Then simpleFoam on the
 # sphere bed's case, its pressure drop against Ergun's (see flow_bed). Fails (exit 1) when
 # OpenFOAM cannot be installed: it never passes by skipping. KEEP=1 keeps the case.
 set -u
@@ -51,7 +50,9 @@ surface_check() {
 }
 # mesh_case NAME DIR LOG: blockMesh, surfaceFeatureExtract, snappyHexMesh and checkMesh in DIR
 # (written by bedexport with the summary LOG) must give "Mesh OK", one region, the four patches
-# and the fluid volume LOG expects within 2 %.
+# and the fluid volume LOG expects within 2 %. Measured (caps, bridges): spheres −0.92 %,
+# −0.81 %; cylinders −1.32 %, −1.15 %; rings −0.81 %, −0.66 % (an empty tube −0.10 %: most
+# of it is lost at the pellets).
 mesh_case() {
     expected=$(sed -n 's/^fluid volume: \([^ ]*\) m3.*/\1/p' "$3")
     [ -n "$expected" ] || { cat "$3" >&2; fail "$1: bedexport printed no fluid volume"; }
@@ -88,11 +89,9 @@ mesh_bed() {
     for t in caps bridges none; do
         "$bin/bedexport" b.packing --openfoam case-$t --treatment $t --cell-size 0.5 --inlet 5 --outlet 5 >export-$t.log 2>export-$t.err \
             || { cat export-$t.err >&2; fail "$name: bedexport --openfoam --treatment $t"; }
-        # Caps cut a pellet by a whole plane: on a ring whose bore holds a neighbour's edge the
-        # plane also takes away part of the far wall, so caps on rings warn (reported, not failed).
         if grep -q "warning" export-$t.err; then
             cat export-$t.err >&2
-            [ "$name $t" = "rings caps" ] || fail "$name: --treatment $t warns (its default changes the porosity by more than 0.01)"
+            fail "$name: --treatment $t warns (its default changes the porosity by more than 0.01)"
         fi
         surface_check "$name (--treatment $t)" case-$t
         [ $t = none ] || say "$name: $(grep -E "^$t: " export-$t.log | sed 's/ (.*//')"
@@ -155,8 +154,8 @@ flow_bed() {
 beds=${BEDS:-spheres cylinders rings}
 for bed in $beds; do
     case $bed in
-        spheres) mesh_bed spheres caps sphere --diameter 10 && flow_bed spheres ;;
-        cylinders) mesh_bed cylinders caps cylinder --diameter 10 --height 10 ;;
+        spheres) mesh_bed spheres caps,bridges sphere --diameter 10 && flow_bed spheres ;;
+        cylinders) mesh_bed cylinders caps,bridges cylinder --diameter 10 --height 10 ;;
         rings) mesh_bed rings caps,bridges ring --outer-diameter 10 --inner-diameter 6 --height 10 ;;
         *) echo "test-openfoam: error: unknown bed $bed in BEDS (spheres, cylinders, rings)" >&2; exit 2 ;;
     esac

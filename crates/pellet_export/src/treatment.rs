@@ -10,7 +10,9 @@
 //!   the contact becomes a solid neck the mesher can resolve;
 //! - **caps**: both pellets are cut flat near the contact (the part beyond
 //!   a plane is taken away by a mesh boolean, [`crate::unite::cut`]) so
-//!   that a gap of a given width remains between two flat faces.
+//!   that a gap of a given width remains between two flat faces; where the
+//!   plane does not separate the two (a pellet in the mouth of a ring's
+//!   bore), only inside a ball around the contact.
 //!
 //! The same applies to pellet–wall and pellet–floor contacts (a bridge then
 //! runs into the wall or floor; a cap cuts the pellet parallel to the
@@ -29,6 +31,7 @@ use pellet_geom::{Bed, ClosedForm, Pellet, PlacedPellet, TriMesh};
 
 use crate::contacts::{find_contacts, Contact, Partner};
 use crate::scene::{enclosed_volume, world_mesh};
+use crate::unite::Cap;
 use crate::ExportError;
 
 /// Which treatments to apply (lengths in m).
@@ -203,18 +206,32 @@ pub fn apply(
         let contacts = find_contacts(&treated_bed, indices, gap);
         let slot: HashMap<usize, usize> = indices.iter().enumerate().map(|(k, &i)| (i, k)).collect();
         let before: Real = meshes.iter().map(enclosed_volume).sum();
-        // Each surface keeps to its side of a plane, `gap` apart in all.
-        let mut planes: Vec<Vec<(Vector, Real)>> = vec![Vec::new(); meshes.len()];
+        // Each surface keeps to its side of a plane, `gap` apart in all. A plane that does not
+        // separate the two pellets (one lies in the mouth of the other's bore, so each reaches
+        // millimetres past it away from the contact) cuts only near the contact: inside a ball
+        // in which two spheres of the larger bounding radius R come within 2 gaps of each other
+        // (radius √(2 R gap)); everywhere, it would take away whole rims.
+        let reach =
+            |k: usize, n: &Vector| meshes[k].vertices.iter().map(|v| n.dot(&v.coords)).fold(Real::MIN, Real::max);
+        let bounding = |i: usize| treated_bed.pellet_types[treated_bed.pellets[i].type_index as usize].bounding_radius;
+        let mut planes: Vec<Vec<Cap>> = vec![Vec::new(); meshes.len()];
         for c in &contacts {
             let mid = c.midpoint();
             let (offset_own, offset_partner) = match c.partner {
                 Partner::Pellet(_) => (c.normal.dot(&mid.coords) - 0.5 * gap, -c.normal.dot(&mid.coords) - 0.5 * gap),
                 Partner::Wall | Partner::Floor => (c.normal.dot(&c.partner_point.coords) - gap, 0.0),
             };
-            planes[slot[&c.pellet]].push((c.normal, offset_own));
+            let mut within = None;
             if let Partner::Pellet(j) = c.partner {
-                planes[slot[&j]].push((-c.normal, offset_partner));
+                // How far each reaches past its contact point along the normal.
+                let own = reach(slot[&c.pellet], &c.normal) - c.normal.dot(&c.point.coords);
+                let partner = reach(slot[&j], &-c.normal) + c.normal.dot(&c.partner_point.coords);
+                if own.max(partner) > 0.5 * gap {
+                    within = Some((mid, (2.0 * bounding(c.pellet).max(bounding(j)) * gap).sqrt()));
+                }
+                planes[slot[&j]].push(Cap { normal: -c.normal, offset: offset_partner, within });
             }
+            planes[slot[&c.pellet]].push(Cap { normal: c.normal, offset: offset_own, within });
         }
         for (k, (mesh, planes)) in meshes.iter_mut().zip(&planes).enumerate() {
             if !planes.is_empty() {
@@ -376,96 +393,4 @@ fn bridge_volume_outside(bed: &Bed, contact: &Contact, radius: Real, range: (Rea
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use pellet_geom::{PlacedPellet, Resolution, ShapeSpec, Tube};
-
-    fn spheres(centres_mm: &[[Real; 3]]) -> Bed {
-        let s = Pellet::build(ShapeSpec::Sphere { diameter_mm: 10.0 }, Resolution::default()).unwrap();
-        Bed {
-            tube: Tube { diameter: 0.06, lid_height: None },
-            pellet_types: vec![s],
-            pellets: centres_mm
-                .iter()
-                .map(|c| PlacedPellet {
-                    type_index: 0,
-                    position: c.map(|x| x * 1e-3),
-                    orientation: [1.0, 0.0, 0.0, 0.0],
-                })
-                .collect(),
-        }
-    }
-
-    #[test]
-    fn a_bridge_joins_exactly_the_pairs_closer_than_the_gap() {
-        // Pairs along x at surface gaps 0, 0.05, 0.15 (joined at 0.2 mm) and 0.25, 0.4 (not).
-        let gaps = [0.0, 0.05, 0.15, 0.25, 0.4];
-        let mut centres = Vec::new();
-        for (k, g) in gaps.iter().enumerate() {
-            let z = 6.0 + 12.0 * k as Real;
-            centres.push([-10.0, 0.0, z]);
-            centres.push([-10.0 + 10.0 + g, 0.0, z]);
-        }
-        let bed = spheres(&centres);
-        let all: Vec<usize> = (0..bed.pellets.len()).collect();
-        let t = Treatment { bridges: Some((0.2e-3, 2e-3)), ..Default::default() };
-        let treated = apply(&bed, &all, (0.0, 0.06), &t, 1e-4).unwrap();
-        let joined: Vec<(usize, Partner)> =
-            treated.bridges.iter().map(|b| (b.contact.pellet, b.contact.partner)).collect();
-        assert_eq!(joined, [(0, Partner::Pellet(1)), (2, Partner::Pellet(3)), (4, Partner::Pellet(5))]);
-        for (b, g) in treated.bridges.iter().zip(gaps) {
-            assert!((b.contact.gap - g * 1e-3).abs() < 1e-12);
-            assert_eq!(b.mesh.check_closed().unwrap().components, 1);
-            // The exact solid added: π rb² d − 2·(cap of the sphere inside the cylinder's section).
-            let (r, rb, d): (Real, Real, Real) = (5e-3, 1e-3, 10e-3 + g * 1e-3);
-            let exact = std::f64::consts::PI * rb * rb * d
-                - 4.0 / 3.0 * std::f64::consts::PI * (r.powi(3) - (r * r - rb * rb).powf(1.5));
-            assert!(
-                (b.added_volume - exact).abs() < 0.01 * std::f64::consts::PI * rb * rb * 2e-3,
-                "{} vs {exact}",
-                b.added_volume
-            );
-        }
-        let line = &treated.report.lines[0];
-        assert_eq!((line.name, line.pellet_contacts, line.wall_contacts), ("bridges", 3, 0));
-        // Without the closed form: gaps from vertex distances (never below
-        // the true gap, so the 0.15 mm pair may be missed) and added volume
-        // from mesh crossings, a little larger for the inscribed mesh.
-        let mut mesh_only = bed.clone();
-        mesh_only.pellet_types[0].closed_form = None;
-        let by_mesh = apply(&mesh_only, &all, (0.0, 0.06), &t, 1e-4).unwrap();
-        assert!((2..=3).contains(&by_mesh.bridges.len()), "{}", by_mesh.bridges.len());
-        for (m, c) in by_mesh.bridges.iter().zip(&treated.bridges) {
-            assert_eq!((m.contact.pellet, m.contact.partner), (c.contact.pellet, c.contact.partner));
-            assert!(m.contact.gap >= c.contact.gap - 1e-12);
-            let (vm, vc) = (m.added_volume, c.added_volume);
-            assert!(vm >= vc * 0.98 && vm < vc * 1.3, "{vm} vs {vc}");
-        }
-    }
-
-    #[test]
-    fn shrink_opens_contacts_and_caps_leave_the_gap() {
-        let bed = spheres(&[[0.0, 0.0, 5.0], [0.0, 0.0, 15.0], [24.0, 0.0, 5.0]]);
-        let all = [0, 1, 2];
-        let shrink =
-            apply(&bed, &all, (0.0, 0.02), &Treatment { shrink: Some(0.99), ..Default::default() }, 1e-4).unwrap();
-        let line = &shrink.report.lines[0];
-        // One pellet pair touching, one pellet 1 mm from the wall (not counted at 0.1 mm), two on the floor.
-        assert_eq!((line.pellet_contacts, line.wall_contacts, line.floor_contacts), (1, 0, 2));
-        let volume: Real = bed.pellet_types[0].properties.volume;
-        let expected = 3.0 * volume * (1.0 - 0.99f64.powi(3)) / shrink.report.range_volume;
-        assert!((line.porosity_change - expected).abs() < 1e-9 * expected.abs().max(1.0), "{line:?} vs {expected}");
-        let caps =
-            apply(&bed, &all, (0.0, 0.02), &Treatment { caps: Some(0.1e-3), ..Default::default() }, 1e-4).unwrap();
-        let line = &caps.report.lines[0];
-        assert_eq!((line.pellet_contacts, line.wall_contacts, line.floor_contacts), (1, 0, 2));
-        assert!(line.porosity_change > 0.0);
-        let lowest = caps.meshes[2].vertices.iter().map(|v| v.z).fold(Real::MAX, Real::min);
-        assert!(lowest >= 0.1e-3 - 1e-12, "{lowest}");
-        // The capped spheres are 0.1 mm apart: top of the lower at ≤ 9.95 mm, bottom of the upper ≥ 10.05.
-        let top = caps.meshes[0].vertices.iter().map(|v| v.z).fold(Real::MIN, Real::max);
-        let bottom = caps.meshes[1].vertices.iter().map(|v| v.z).fold(Real::MAX, Real::min);
-        assert!(top <= 9.95e-3 + 1e-12 && bottom >= 10.05e-3 - 1e-12, "{top} {bottom}");
-        assert!(caps.meshes[0].check_closed().is_ok());
-    }
-}
+mod tests;

@@ -226,23 +226,45 @@ fn segment_crosses(p: &Point, q: &Point, [a, b, c]: &[Point; 3]) -> bool {
     (u > 0.0 && v > 0.0 && w > 0.0) || (u < 0.0 && v < 0.0 && w < 0.0)
 }
 
-/// `mesh` (closed and outward) less its parts beyond the planes: what is
-/// kept of it has `n·x ≤ offset` for every `(n, offset)` (n a unit vector).
-/// The cut faces are flat and the surface stays closed.
-pub fn cut(mesh: &TriMesh, planes: &[(Vector, Real)]) -> Result<TriMesh, String> {
-    let solid = to_manifold(mesh, 0.0)?;
-    // One boolean with a convex cutter (a box around the mesh trimmed by
-    // every plane) instead of one per plane: a pellet of a dense bed has
-    // about ten caps, and the cutter's booleans cost next to nothing.
-    let b = solid.bounding_box();
-    let (lo, hi) = (b.min, b.max);
-    let size = Vec3::new(hi.x - lo.x, hi.y - lo.y, hi.z - lo.z) * 1.5;
-    let centre = Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z));
-    let mut cutter = Manifold::cube(size, true).translate(centre);
-    for (n, offset) in planes {
-        cutter = cutter.trim_by_plane(Vec3::new(-n.x, -n.y, -n.z), -offset);
+/// One cap: the part of a pellet with `n·x > offset` is taken away, everywhere or only inside a
+/// ball (centre, radius).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cap {
+    /// Unit normal, out of the pellet towards its partner.
+    pub normal: Vector,
+    /// The plane's offset: the pellet keeps `normal·x ≤ offset`.
+    pub offset: Real,
+    /// Where the cut is limited to, if anywhere.
+    pub within: Option<(Point, Real)>,
+}
+
+/// `mesh` (closed and outward) less its parts beyond the caps' planes (within their balls, for
+/// the caps limited to one). The cut faces are flat and the surface stays closed.
+pub fn cut(mesh: &TriMesh, caps: &[Cap]) -> Result<TriMesh, String> {
+    let mut solid = to_manifold(mesh, 0.0)?;
+    let v = |p: &Vector| Vec3::new(p.x, p.y, p.z);
+    let everywhere: Vec<&Cap> = caps.iter().filter(|c| c.within.is_none()).collect();
+    if !everywhere.is_empty() {
+        // One boolean with a convex cutter (a box around the mesh trimmed by
+        // every plane) instead of one per plane: a pellet of a dense bed has
+        // about ten caps, and the cutter's booleans cost next to nothing.
+        let b = solid.bounding_box();
+        let (lo, hi) = (b.min, b.max);
+        let size = Vec3::new(hi.x - lo.x, hi.y - lo.y, hi.z - lo.z) * 1.5;
+        let centre = Vec3::new(0.5 * (lo.x + hi.x), 0.5 * (lo.y + hi.y), 0.5 * (lo.z + hi.z));
+        let mut cutter = Manifold::cube(size, true).translate(centre);
+        for c in everywhere {
+            cutter = cutter.trim_by_plane(-v(&c.normal), -c.offset);
+        }
+        solid = solid.intersection(&cutter);
     }
-    let solid = solid.intersection(&cutter);
+    for c in caps {
+        if let Some((centre, radius)) = c.within {
+            // The ball's part beyond the plane: a lens-shaped cutter.
+            let ball = Manifold::sphere(radius, 48).translate(v(&centre.coords));
+            solid = solid.difference(&ball.trim_by_plane(v(&c.normal), c.offset));
+        }
+    }
     match solid.status() {
         ManifoldError::NoError => Ok(from_manifold(&solid)),
         status => Err(format!("cutting its caps failed ({status:?}); give another --cap-gap")),
