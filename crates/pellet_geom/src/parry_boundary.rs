@@ -205,7 +205,7 @@ impl PlacedClosedForm {
 }
 
 /// The contact of two closed-form pellets by parry's query on their exact shapes (GJK, and EPA
-/// where they overlap; a ring as [`RING_WEDGES`] wedges, its contact the nearest or deepest of
+/// where they overlap; a ring as 128 wedges, its contact the nearest or deepest of
 /// its wedges'): (signed gap, the nearest point of each, the unit normal from `a` towards `b`),
 /// or `None` when they are farther apart than `max_gap`.
 pub fn closed_form_contact(
