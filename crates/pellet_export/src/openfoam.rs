@@ -104,11 +104,13 @@ pub fn tube_stl(radius: Real, z0: Real, z1: Real, segments: usize) -> Vec<u8> {
 }
 
 /// The fluid point farthest from every surface (pellets, wall, inlet,
-/// outlet), searched on a grid of `step`: snappyHexMesh keeps the cells
-/// connected to it, and a point far from all surfaces is never on a face
-/// of the background mesh by accident. Distances to a pellet are to its
-/// mesh vertices (close for the fine meshes pellets have); points inside a
-/// pellet are skipped. `None` if every grid point is inside a pellet.
+/// outlet), searched on a grid of `step`, then moved off that grid by
+/// [`OFF_GRID`]: snappyHexMesh keeps the cells connected to it and stops
+/// when the point lies on a face of the mesh, and the search grid's points
+/// lie on the background mesh's faces when `step` is a whole number of its
+/// cells. Distances to a pellet are to its mesh vertices (close for the fine
+/// meshes pellets have); points inside a pellet are skipped. `None` if
+/// every grid point is inside a pellet.
 pub fn location_in_mesh(meshes: &[TriMesh], radius: Real, z0: Real, z1: Real, step: Real) -> Option<Point> {
     // Bounding spheres give a lower bound that skips most pellets for each point.
     let bounds: Vec<(Point, Real)> = meshes
@@ -152,8 +154,16 @@ pub fn location_in_mesh(meshes: &[TriMesh], radius: Real, z0: Real, z1: Real, st
             }
         }
     }
-    best.map(|b| b.1)
+    best.map(|(_, p)| p + OFF_GRID * step)
 }
+
+/// How far [`location_in_mesh`] moves its grid point, in search steps: each
+/// component 0.37–0.63 of 1/64 of a step away from the multiples of 1/64, so
+/// the point lies on no face of a background mesh whose cells divide the
+/// step at any of snappyHexMesh's refinement levels up to 5 (at least 0.0058
+/// step away, 6 µm at the search step of two 0.5 mm cells), and moves far
+/// less than the point's distance to every surface.
+const OFF_GRID: pellet_geom::math::Vector = pellet_geom::math::Vector::new(1.37 / 64.0, 2.63 / 64.0, 1.81 / 64.0);
 
 fn header(class: &str, object: &str) -> String {
     format!(
@@ -388,6 +398,12 @@ mod tests {
         assert!(p.z > 0.02 && p.x.hypot(p.y) < 0.005, "{p:?}");
         let g = CaseGeometry { radius: 0.01, z0: 0.0, z1: 0.04, cell: 0.001, location: p };
         assert!(block_mesh_dict(&g).contains("(11 11 21)"));
+        // On no face of that background mesh (cells of 2 mm from −11 mm in x and y, from −1 mm
+        // in z) or of its cells refined up to five times: snappyHexMesh stops on such a point.
+        for (coordinate, low) in [(p.x, -0.011), (p.y, -0.011), (p.z, -0.001)] {
+            let k = (coordinate - low) / (0.002 / 32.0);
+            assert!((k - k.round()).abs() > 0.2, "{p:?}: {k} finest cells from the mesh's corner");
+        }
         assert!(snappy_hex_mesh_dict(&g, &ContactRefinement::default()).contains("locationInMesh ("));
         assert!(snappy_hex_mesh_dict(&g, &ContactRefinement::default()).contains("refinementRegions {}"));
         let refine = ContactRefinement { level: 3, spheres: vec![(Point::new(0.0, 0.0, 0.01), 0.001)] };
