@@ -13,8 +13,8 @@ use crate::driver::STEP_S;
 use crate::keys;
 use crate::loading::LoadingScheme;
 use pellet_geom::math::shown;
+use pellet_sim::EngineParams;
 pub use pellet_sim::Stepper;
-use pellet_sim::VelocityParams;
 
 /// Most pellets a bed may hold: checked before anything is allocated for them (a million
 /// pellets take a few GB with their contacts; four billion aborted the allocator).
@@ -23,9 +23,6 @@ pub const MAX_COUNT: u32 = 1_000_000;
 /// Largest tube diameter and fill height, mm: mkpellet's largest pellet size. A larger tube is
 /// a typing slip, and a run in it would never end (the pellets fall and spread for ever).
 pub const MAX_LENGTH_MM: f64 = 1e4;
-
-/// The stepper of a run that does not choose one.
-pub const DEFAULT_STEPPER: Stepper = Stepper::Velocity;
 use crate::ConfigError;
 
 /// Parameters as typed (lengths in mm, times in s, angles in degrees).
@@ -126,17 +123,8 @@ pub enum ClampRule {
     Zero,
 }
 
-/// The radius of the patch a contact point stands for, in pellet diameters: a Hertz contact
-/// between 10 mm ceramic pellets under a few pellets' weight is about that wide
-/// (`docs/engine.md`, "Contact points as small patches").
-pub const DEFAULT_CONTACT_PATCH: f64 = 1e-3;
-
-/// εp of both contact models (m/s), for mm pellets: twice g·δt_cap at δt_cap = 2.5e-4 s, so
-/// that a body whose contact has just formed does not re-collide every substep.
-pub const DEFAULT_RESTING_BAND: f64 = 5e-3;
-
-fn default_resting_band() -> f64 {
-    DEFAULT_RESTING_BAND
+fn recorded_resting_band() -> f64 {
+    5e-3
 }
 
 macro_rules! overlay_fields {
@@ -264,8 +252,8 @@ pub struct PackConfig {
     /// The contact model.
     pub contact_model: ContactModel,
     /// εp (m/s); also εf, and the substep cap is εp / (2 g). Archives written before it
-    /// existed read as the default.
-    #[serde(default = "default_resting_band")]
+    /// existed read as 5e-3 m/s, the value that wrote them.
+    #[serde(default = "recorded_resting_band")]
     pub resting_band_m_s: f64,
     /// The friction clamp rule, if it overrides the contact model's.
     #[serde(default)]
@@ -278,7 +266,7 @@ pub struct PackConfig {
     pub checkpoint_every_s: f64,
     /// The engine's time-stepping scheme. Archives written before there was a choice read as
     /// `acceleration`, the scheme that wrote them.
-    #[serde(default)]
+    #[serde(default = "Stepper::recorded_default")]
     pub stepper: Stepper,
     /// Radius of the patch a contact point stands for under the velocity-level stepper, as a
     /// fraction of the pellet diameter (0: contact points turn freely). Archives
@@ -399,6 +387,9 @@ impl PackConfig {
                 "the batch scheme places every pellet at once: give --count N instead of --fill-height".into(),
             ));
         }
+        // The engine's settings default to the engine's own (`engine_params` of a run that sets
+        // none of them is `EngineParams::default()`).
+        let engine = EngineParams::default();
         Ok(PackConfig {
             pellet,
             tube_diameter_m: check("tube-diameter", tube)? * mm,
@@ -430,12 +421,12 @@ impl PackConfig {
             // keeps turning about the axis and rattling in the resting band);
             // see the README's known limits.
             contact_model: o.contact_model.unwrap_or(ContactModel::Recommended),
-            resting_band_m_s: check("resting-band", o.resting_band.unwrap_or(DEFAULT_RESTING_BAND))?,
+            resting_band_m_s: check("resting-band", o.resting_band.unwrap_or(engine.eps_p))?,
             friction_clamp: o.friction_clamp,
-            stepper: o.stepper.unwrap_or(DEFAULT_STEPPER),
-            contact_patch_dp: check("contact-patch", o.contact_patch.unwrap_or(DEFAULT_CONTACT_PATCH))?,
-            step_travel_dp: check("step-travel", o.step_travel.unwrap_or(VelocityParams::default().travel))?,
-            max_step_s: check("max-step", o.max_step.unwrap_or(VelocityParams::default().max_step))?,
+            stepper: o.stepper.unwrap_or(engine.stepper),
+            contact_patch_dp: check("contact-patch", o.contact_patch.unwrap_or(engine.velocity.patch_radius))?,
+            step_travel_dp: check("step-travel", o.step_travel.unwrap_or(engine.velocity.travel))?,
+            max_step_s: check("max-step", o.max_step.unwrap_or(engine.velocity.max_step))?,
             substep_scale: check("substep-scale", o.substep_scale.unwrap_or(1.0))?,
             threads: match o.threads {
                 Some(n) if !(1..=MAX_THREADS).contains(&n) => {

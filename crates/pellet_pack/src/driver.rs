@@ -16,8 +16,8 @@ use crate::config::{Amount, PackConfig};
 use crate::loading::{FeedParams, Feeder, LoadingScheme};
 
 pub use crate::setup::{
-    body_type, check_setup, engine_params, mesh_shape, narrowest_tube_radius, new_world, EXACT_FALLBACK_MAX_ROWS,
-    EXACT_SOLVER_MAX_ROWS, MAX_MESH_SAMPLES, SDF_GRID_NODES_PER_DIAMETER,
+    body_type, check_setup, engine_params, mesh_shape, narrowest_tube_radius, new_world, MAX_MESH_SAMPLES,
+    SDF_GRID_NODES_PER_DIAMETER,
 };
 
 /// Length of one engine step (s): the energy channel gets a record per

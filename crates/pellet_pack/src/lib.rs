@@ -19,7 +19,7 @@ pub mod loading;
 mod setup;
 
 pub use checkpoint::{resume_conflicts, Checkpoint, RunState, CHECKPOINT_VERSION};
-pub use config::{Amount, ClampRule, ContactModel, PackConfig, PackOptions, Stepper, DEFAULT_STEPPER};
+pub use config::{Amount, ClampRule, ContactModel, PackConfig, PackOptions, Stepper};
 pub use driver::{
     check_setup, engine_params, resume_pack, run_pack, Ending, PackError, Progress, RunSink, RunSummary, SolverStats,
     SOLVER_WINDOW_S,

@@ -4,8 +4,8 @@
 
 use pellet_geom::{ClosedForm, Pellet};
 use pellet_sim::{
-    AccelerationParams, BodyType, Container, EngineParams, FrictionClamp, IterativeSolver, Material, ShapeDesc,
-    VelocityParams, WallMaterial, World,
+    BodyType, Container, EngineParams, FrictionClamp, IterativeSolver, Material, ShapeDesc, VelocityParams,
+    WallMaterial, World,
 };
 
 use crate::config::{ClampRule, ContactModel, PackConfig};
@@ -137,37 +137,25 @@ pub fn new_world(config: &PackConfig, pellet: &Pellet) -> Result<(World, pellet_
     Ok((world, type_id))
 }
 
-/// The engine parameters of a pack run: the chosen contact model, its εp and
-/// clamp rule, with islands above [`EXACT_SOLVER_MAX_ROWS`] rows left to the
-/// iterative solver. εp sets εf too (εf = εp: below it the sliding direction
-/// is noise), and the substep cap is lowered to εp/(2g) where that is below
-/// the engine's 2.5e-4 s (with g·δt_cap > εp/2 a body whose contact has just
-/// formed re-collides every substep); at the default εp of 5e-3 m/s it stays
-/// 2.5e-4 s.
+/// The engine parameters of a pack run: [`EngineParams::default`] with the run's resting band
+/// ([`EngineParams::with_resting_band`]), contact model and clamp rule, substep scale, stepper
+/// and velocity-level step and patch. With no engine flags they are the default itself.
 pub fn engine_params(config: &PackConfig) -> EngineParams {
-    let base = match config.contact_model {
-        ContactModel::Paper => EngineParams::default(),
-        ContactModel::Recommended => EngineParams::recommended(),
+    let base = EngineParams::default().with_resting_band(config.resting_band_m_s);
+    let mut acceleration = match config.contact_model {
+        ContactModel::Paper => base.acceleration.with_paper_contact_model(),
+        ContactModel::Recommended => base.acceleration,
     };
-    let eps = config.resting_band_m_s;
-    let g = base.gravity.norm();
-    let friction_clamp = match config.friction_clamp {
-        Some(ClampRule::Stick) => FrictionClamp::Stick,
-        Some(ClampRule::Zero) => FrictionClamp::Zero,
-        None => base.acceleration.friction_clamp,
-    };
+    match config.friction_clamp {
+        Some(ClampRule::Stick) => acceleration.friction_clamp = FrictionClamp::Stick,
+        Some(ClampRule::Zero) => acceleration.friction_clamp = FrictionClamp::Zero,
+        None => {}
+    }
+    acceleration.dt_cap *= config.substep_scale;
+    acceleration.slip_fraction *= config.substep_scale;
     EngineParams {
-        eps_p: eps,
         stepper: config.stepper,
-        acceleration: AccelerationParams {
-            exact_solver_max_rows: EXACT_SOLVER_MAX_ROWS,
-            exact_fallback_max_rows: EXACT_FALLBACK_MAX_ROWS,
-            eps_f: eps,
-            dt_cap: base.acceleration.dt_cap.min(0.5 * eps / g) * config.substep_scale,
-            slip_fraction: base.acceleration.slip_fraction * config.substep_scale,
-            friction_clamp,
-            ..base.acceleration
-        },
+        acceleration,
         velocity: VelocityParams {
             patch_radius: config.contact_patch_dp,
             travel: config.step_travel_dp,
@@ -177,20 +165,3 @@ pub fn engine_params(config: &PackConfig) -> EngineParams {
         ..base
     }
 }
-
-/// Largest island solved by Baraff's dense pivoting method in a pack run.
-/// Measured (`perf record`, 20 spheres of 10 mm in a 40 mm tube): with 64
-/// rows, the engine's default, 80 % of the time went to the dense solver and
-/// 3 s of simulated time took 29.9 s; with 16 rows it took 1.96 s.
-pub const EXACT_SOLVER_MAX_ROWS: usize = 16;
-
-/// Largest island that Baraff solves again when the iterative solver ends
-/// unconverged. Without it a cylinder bed never comes to rest: 20 cylinders
-/// of 10 mm in a 40 mm tube (`pack --pellet c.pellet --tube-diameter 40
-/// --count 20 --seed 1 --max-time 8`) still crept after 8 s (pellets moving
-/// 0.1–0.5 mm and turning up to 9° per second, KE 3.2e-8 J, 136 s of CPU);
-/// with every island solved by Baraff the same bed was at rest (KE 1e-17 J)
-/// by 2 s, but slowly. With the fallback up to 64 rows it settles at 2.19 s
-/// simulated in 26 s of CPU; up to 96 rows, at 5.09 s in 107 s. Unconverged
-/// islands are rare in sphere beds, so they pay almost nothing for it.
-pub const EXACT_FALLBACK_MAX_ROWS: usize = 64;

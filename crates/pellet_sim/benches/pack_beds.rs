@@ -8,12 +8,14 @@
 //! keeps the bed near 120 mm at porosity ≈ 0.4 for spheres and cylinders, 0.55 for rings).
 //! `PELLET_BENCH_SIM_SECONDS` (default 1.0) and `PELLET_BENCH_WALL_SECONDS` (default 300) bound
 //! each case; the table says how far a case got. Engine: density 2000 kg/m³, e = 0.5, μ = 0.3;
-//! paper mode, or `pack`'s default contact model with `PELLET_BENCH_MODE=recommended`;
-//! `PELLET_BENCH_EXACT_ROWS` (default 64) the largest island solved by Baraff's method
-//! (`pack` uses 16); `PELLET_BENCH_EXACT_FALLBACK` (default 0) the largest unconverged
-//! iterative island solved again by Baraff (`pack` uses 64); `PELLET_BENCH_SOLVER=apgd` or `mprgp` the solver of larger islands (default
-//! as `pack`: MPRGP for spheres, APGD otherwise);
-//! `PELLET_BENCH_TOL` the solver tolerance as a factor of g (default 1e-4).
+//! the force-level stepper with the engine's defaults, `pack --stepper acceleration`'s (the
+//! recommended contact model), or the paper's contact model with `PELLET_BENCH_MODE=paper`;
+//! `PELLET_BENCH_EXACT_ROWS` the largest island solved by Baraff's method and
+//! `PELLET_BENCH_EXACT_FALLBACK` the largest unconverged iterative island solved again by
+//! Baraff (default: the engine's, 16 and 64); `PELLET_BENCH_SOLVER=apgd` or `mprgp` the solver
+//! of larger islands (default as `pack`: MPRGP for spheres, APGD otherwise); `PELLET_BENCH_TOL`
+//! the solver tolerance as a factor of g and `PELLET_BENCH_NNCG=0` no NNCG step in the coupled
+//! polish (default: the engine's).
 //!
 //! Printed per case: tube, wall and simulated time, substeps, contacts per substep (all /
 //! colliding / resting), solver iterations per substep, worst residual (of every island, and
@@ -24,7 +26,7 @@
 //! pour needs), and where the wall time went: narrow phase, collision phase, resting phase, position projection.
 
 use pellet_sim::{
-    AccelerationParams, BodyType, Container, EngineParams, IterativeSolver, Material, Pipeline, Quat, Vec3,
+    AccelerationParams, BodyType, Container, EngineParams, IterativeSolver, Material, Pipeline, Quat, Stepper, Vec3,
     WallMaterial, World,
 };
 use rand::{RngExt, SeedableRng};
@@ -54,15 +56,17 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
     let eps = if kind == "ring" { 0.55 } else { 0.4 };
     let tube_d = tube_mm.map_or_else(|| tube_for(n, ty.volume_m3, eps), |d| d * 1e-3);
     let rb = ty.bounding_radius_m;
-    let base = match std::env::var("PELLET_BENCH_MODE").as_deref() {
-        Ok("recommended") => EngineParams::recommended(),
-        _ => EngineParams::default(),
+    // The benchmark measures the force-level stepper's phases.
+    let base = EngineParams { stepper: Stepper::Acceleration, ..EngineParams::default() };
+    let a = match std::env::var("PELLET_BENCH_MODE").as_deref() {
+        Ok("paper") => base.acceleration.with_paper_contact_model(),
+        _ => base.acceleration,
     };
     let acceleration = AccelerationParams {
-        exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", 64.0) as usize,
-        exact_fallback_max_rows: env("PELLET_BENCH_EXACT_FALLBACK", 0.0) as usize,
-        solver_tolerance_factor: env("PELLET_BENCH_TOL", 1e-4),
-        coupled_friction_nncg: env("PELLET_BENCH_NNCG", 1.0) != 0.0,
+        exact_solver_max_rows: env("PELLET_BENCH_EXACT_ROWS", a.exact_solver_max_rows as f64) as usize,
+        exact_fallback_max_rows: env("PELLET_BENCH_EXACT_FALLBACK", a.exact_fallback_max_rows as f64) as usize,
+        solver_tolerance_factor: env("PELLET_BENCH_TOL", a.solver_tolerance_factor),
+        coupled_friction_nncg: env("PELLET_BENCH_NNCG", if a.coupled_friction_nncg { 1.0 } else { 0.0 }) != 0.0,
         iterative_solver: match std::env::var("PELLET_BENCH_SOLVER").as_deref() {
             Ok("apgd") => IterativeSolver::Apgd,
             Ok("mprgp") => IterativeSolver::Mprgp,
@@ -70,7 +74,7 @@ fn case(kind: &str, n: usize, tube_mm: Option<f64>, sim_seconds: f64, wall_limit
             _ if kind == "sph" => IterativeSolver::Mprgp,
             _ => IterativeSolver::Apgd,
         },
-        ..base.acceleration
+        ..a
     };
     let mut world = World::new(
         Container::tube(tube_d).expect("tube"),

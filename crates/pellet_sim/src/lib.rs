@@ -45,7 +45,7 @@ pub use geometry::sdf::SdfGrid;
 pub use math::{Mat3, Quat, Real, Vec3};
 pub use params::{
     AccelerationParams, ApproachBound, EngineParams, FrictionClamp, IterativeSolver, Material, Stepper, VelocityParams,
-    WallMaterial,
+    WallMaterial, EXACT_FALLBACK_MAX_ROWS, EXACT_SOLVER_MAX_ROWS,
 };
 pub use pipeline::{ContactRecord, EnergyLedger, Pipeline, StepReport, WarmForce, WarmImpulse, World, WorldState};
 pub use shape::{BodyType, ShapeDesc};

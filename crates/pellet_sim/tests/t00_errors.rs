@@ -5,7 +5,7 @@ use common::*;
 use pellet_sim::{BodyType, Container, EngineParams, Mat3, Quat, ShapeDesc, SimError, Vec3, World};
 
 fn world(d: f64) -> World {
-    World::new(Container::tube(d).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), EngineParams::default()).unwrap()
+    World::new(Container::tube(d).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), EngineParams::paper()).unwrap()
 }
 
 #[test]
@@ -81,11 +81,11 @@ fn bad_inertia_and_materials_are_errors() {
     let mut ty = BodyType::solid_sphere(0.005).unwrap();
     ty.inertia_per_density_m5 = Mat3::from_diagonal(&Vec3::new(1.0, -1.0, 1.0));
     assert!(w.register_type(ty).is_err());
-    let bad = World::new(Container::tube(0.1).unwrap(), material(1.5, 0.3), wall(0.5, 0.3), EngineParams::default());
+    let bad = World::new(Container::tube(0.1).unwrap(), material(1.5, 0.3), wall(0.5, 0.3), EngineParams::paper());
     assert!(bad.is_err());
-    let bad = World::new(Container::tube(0.1).unwrap(), material(0.5, 0.3), wall(0.5, -0.1), EngineParams::default());
+    let bad = World::new(Container::tube(0.1).unwrap(), material(0.5, 0.3), wall(0.5, -0.1), EngineParams::paper());
     assert!(bad.is_err());
-    let params = EngineParams { eps_p: 0.0, ..EngineParams::default() };
+    let params = EngineParams { eps_p: 0.0, ..EngineParams::paper() };
     assert!(World::new(Container::tube(0.1).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), params).is_err());
 }
 

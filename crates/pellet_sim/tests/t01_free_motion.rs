@@ -8,12 +8,12 @@ use pellet_sim::{Body, BodyType, Container, EngineParams, Mat3, Pipeline, Quat, 
 
 #[test]
 fn t1_free_fall_is_exact() {
-    free_fall(EngineParams::default());
+    free_fall(EngineParams::paper());
 }
 
 #[test]
 fn t1_free_fall_is_exact_velocity_stepper() {
-    free_fall(EngineParams { stepper: pellet_sim::Stepper::Velocity, ..EngineParams::default() });
+    free_fall(EngineParams { stepper: pellet_sim::Stepper::Velocity, ..EngineParams::paper() });
 }
 
 fn free_fall(params: EngineParams) {

@@ -73,7 +73,7 @@ fn t3_oblique_equal_masses_leave_perpendicular() {
 fn oblique_floor(mu: f64, clamp: FrictionClamp) -> (f64, f64, f64, f64) {
     let r = 0.005;
     let params = EngineParams {
-        acceleration: AccelerationParams { friction_clamp: clamp, ..Default::default() },
+        acceleration: AccelerationParams { friction_clamp: clamp, ..AccelerationParams::paper() },
         ..zero_gravity()
     };
     let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(0.5, mu), wall(0.5, mu), params);
@@ -183,7 +183,7 @@ fn final_e0_solve_after_the_pass_cap() {
     // solve makes balls 2..5 leave together, conserving momentum, and nothing approaches after.
     let r = 0.005;
     let params = EngineParams {
-        acceleration: AccelerationParams { collision_pass_cap: 1, ..Default::default() },
+        acceleration: AccelerationParams { collision_pass_cap: 1, ..AccelerationParams::paper() },
         ..zero_gravity()
     };
     let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(1.0, 0.0), wall(1.0, 0.0), params);
@@ -213,7 +213,7 @@ fn rewind_and_halve_keeps_penetration_below_the_bound() {
     let params = EngineParams {
         eps_p: 0.1,
         max_penetration_factor: 1e-3,
-        acceleration: AccelerationParams { dt_cap: 1e-2, ..Default::default() },
+        acceleration: AccelerationParams { dt_cap: 1e-2, ..AccelerationParams::paper() },
         ..zero_gravity()
     };
     let (mut w, t) = sphere_world(Container::tube(0.3).unwrap(), r, material(1.0, 0.0), wall(1.0, 0.0), params);

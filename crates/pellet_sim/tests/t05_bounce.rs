@@ -22,8 +22,8 @@ fn bounce(stepper: Stepper) {
     let dt = 1e-4;
     let params = EngineParams {
         stepper,
-        acceleration: AccelerationParams { dt_cap: dt, ..Default::default() },
-        ..EngineParams::default()
+        acceleration: AccelerationParams { dt_cap: dt, ..AccelerationParams::paper() },
+        ..EngineParams::paper()
     };
     let eps_p = params.eps_p;
     let (mut w, t) = sphere_world(Container::tube(0.05).unwrap(), r, material(e, 0.0), wall(e, 0.0), params);

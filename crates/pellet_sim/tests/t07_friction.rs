@@ -70,7 +70,7 @@ fn check_rolling(label: &str, params: EngineParams) {
 
 #[test]
 fn t7_rolling_paper_mode() {
-    check_rolling("paper", EngineParams::default());
+    check_rolling("paper", EngineParams::paper());
 }
 
 #[test]
@@ -78,8 +78,8 @@ fn t7_rolling_paper_mode_stick_clamp() {
     check_rolling(
         "paper+stick",
         EngineParams {
-            acceleration: AccelerationParams { friction_clamp: FrictionClamp::Stick, ..Default::default() },
-            ..EngineParams::default()
+            acceleration: AccelerationParams { friction_clamp: FrictionClamp::Stick, ..AccelerationParams::paper() },
+            ..EngineParams::paper()
         },
     );
 }
@@ -88,12 +88,12 @@ fn t7_rolling_paper_mode_stick_clamp() {
 /// not at εf; the checks are the same (εf's share of t_r is 0.3 %).
 #[test]
 fn t7_rolling_velocity_stepper() {
-    check_rolling("velocity", EngineParams { stepper: Stepper::Velocity, ..EngineParams::default() });
+    check_rolling("velocity", EngineParams { stepper: Stepper::Velocity, ..EngineParams::paper() });
 }
 
 #[test]
 fn t7_rolling_static_friction() {
-    check_rolling("static", EngineParams::recommended());
+    check_rolling("static", recommended());
 }
 
 /// Sphere released from rest on a 30° incline; returns (acceleration along the slope over
@@ -121,9 +121,9 @@ fn incline(params: EngineParams, mu: f64) -> (f64, f64, f64) {
 fn incline_sphere_rolls_or_slides() {
     let g = 9.81;
     let th = 30f64.to_radians();
-    let (a_rough, slip_rough, pen1) = incline(EngineParams::recommended(), 0.3);
-    let (a_paper, slip_paper, pen2) = incline(EngineParams::default(), 0.3);
-    let (a_smooth, slip_smooth, pen3) = incline(EngineParams::default(), 0.0);
+    let (a_rough, slip_rough, pen1) = incline(recommended(), 0.3);
+    let (a_paper, slip_paper, pen2) = incline(EngineParams::paper(), 0.3);
+    let (a_smooth, slip_smooth, pen3) = incline(EngineParams::paper(), 0.0);
     eprintln!(
         "incline: static friction a {a_rough:.5} slip {slip_rough:.2e}; paper a {a_paper:.5} slip {slip_paper:.2e}; frictionless a {a_smooth:.5} slip {slip_smooth:.3}; (5/7 g sin = {:.5}, g sin = {:.5})",
         5.0 / 7.0 * g * th.sin(),

@@ -39,10 +39,10 @@ fn single(params: EngineParams) {
 
 #[test]
 fn t8a_single_sphere_rests() {
-    single(EngineParams::default());
+    single(EngineParams::paper());
     single(EngineParams {
-        acceleration: AccelerationParams { velocity_bias: true, ..Default::default() },
-        ..EngineParams::default()
+        acceleration: AccelerationParams { velocity_bias: true, ..AccelerationParams::paper() },
+        ..EngineParams::paper()
     });
 }
 
@@ -89,11 +89,11 @@ fn column(params: EngineParams, seconds: f64) {
 
 #[test]
 fn t8b_column_of_ten_spheres() {
-    column(EngineParams::default(), 10.0);
+    column(EngineParams::paper(), 10.0);
     column(
         EngineParams {
-            acceleration: AccelerationParams { velocity_bias: true, ..Default::default() },
-            ..EngineParams::default()
+            acceleration: AccelerationParams { velocity_bias: true, ..AccelerationParams::paper() },
+            ..EngineParams::paper()
         },
         10.0,
     );
@@ -108,7 +108,7 @@ fn t8c_sphere_in_v_groove() {
     let bottom = Vec3::new(0.0, 0.0, z0);
     let c =
         Container::tube(0.1).unwrap().with_plane(n1, n1.dot(&bottom)).unwrap().with_plane(n2, n2.dot(&bottom)).unwrap();
-    let (mut w, t) = sphere_world(c, R, material(0.5, 0.0), wall(0.5, 0.0), EngineParams::default());
+    let (mut w, t) = sphere_world(c, R, material(0.5, 0.0), wall(0.5, 0.0), EngineParams::paper());
     let id = add(&mut w, t, Vec3::new(0.0, 0.0, z0 + R / s), Vec3::zeros(), Vec3::zeros());
     let mg = weight(&w);
     let mut p = Pipeline::new();
@@ -176,7 +176,7 @@ fn lattice_stats(w: &World, p: &Pipeline) -> (f64, f64, usize, f64) {
 
 #[test]
 fn t8d_lattice_bed_apgd() {
-    let params = EngineParams::default();
+    let params = EngineParams::paper();
     let tol = params.solver_tolerance();
     let (w, p) = lattice(params);
     let (floor_err, acc, rows, _) = lattice_stats(&w, &p);
@@ -193,9 +193,9 @@ fn t8d_lattice_bed_tight_tolerance() {
             solver_tolerance_factor: 1e-8,
             apgd_max_iterations: 5000,
             pgs_max_iterations: 20000,
-            ..Default::default()
+            ..AccelerationParams::paper()
         },
-        ..EngineParams::default()
+        ..EngineParams::paper()
     };
     let (w, p) = lattice(params);
     let (floor_err, acc, rows, _) = lattice_stats(&w, &p);

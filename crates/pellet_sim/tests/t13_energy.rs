@@ -143,12 +143,12 @@ fn pour(n: usize, seed: u64, params: EngineParams, seconds: f64) -> (World, Vec<
 
 #[test]
 fn t13b_pour_energy_never_rises_beyond_the_projection_work() {
-    check_pour("paper", EngineParams::default(), 15, 0.8);
+    check_pour("paper", EngineParams::paper(), 15, 0.8);
 }
 
 #[test]
 fn t13b_pour_recommended_mode() {
-    check_pour("recommended", EngineParams::recommended(), 10, 0.5);
+    check_pour("recommended", recommended(), 10, 0.5);
 }
 
 fn check_pour(label: &str, params: EngineParams, n: usize, seconds: f64) {
@@ -194,8 +194,8 @@ fn check_pour(label: &str, params: EngineParams, n: usize, seconds: f64) {
 
 #[test]
 fn determinism_same_seed_same_bits() {
-    let (a, _, _) = pour(15, 3, EngineParams::default(), 0.3);
-    let (b, _, _) = pour(15, 3, EngineParams::default(), 0.3);
+    let (a, _, _) = pour(15, 3, EngineParams::paper(), 0.3);
+    let (b, _, _) = pour(15, 3, EngineParams::paper(), 0.3);
     for (x, y) in a.bodies().iter().zip(b.bodies()) {
         for k in 0..3 {
             assert_eq!(x.position[k].to_bits(), y.position[k].to_bits());

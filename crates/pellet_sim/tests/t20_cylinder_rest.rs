@@ -52,14 +52,14 @@ fn rests(ty: BodyType, x: Vec3, q: Quat, params: EngineParams, seconds: f64) {
 #[test]
 fn t8a_cylinder_on_its_side_rests_10_s() {
     let on_side = Quat::from_axis_angle(&Vec3::y_axis(), FRAC_PI_2);
-    for params in [EngineParams::default(), with_bias(EngineParams::default())] {
+    for params in [EngineParams::paper(), with_bias(EngineParams::paper())] {
         rests(BodyType::solid_cylinder(0.005, 0.005).unwrap(), Vec3::new(0.0, 0.0, 0.005), on_side, params, 10.0);
     }
 }
 
 #[test]
 fn t8a_ring_on_its_face_rests_10_s() {
-    for params in [EngineParams::default(), with_bias(EngineParams::default())] {
+    for params in [EngineParams::paper(), with_bias(EngineParams::paper())] {
         let ring = BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap();
         rests(ring, Vec3::new(0.001, -0.002, 0.005), Quat::identity(), params, 10.0);
     }
@@ -68,7 +68,7 @@ fn t8a_ring_on_its_face_rests_10_s() {
 #[test]
 fn t8a_cylinder_on_its_face_rests_10_s() {
     let cyl = BodyType::solid_cylinder(0.0025, 0.0025).unwrap();
-    rests(cyl, Vec3::new(0.0, 0.0, 0.0025), Quat::identity(), EngineParams::default(), 10.0);
+    rests(cyl, Vec3::new(0.0, 0.0, 0.0025), Quat::identity(), EngineParams::paper(), 10.0);
 }
 
 /// Five 10 mm cylinders stacked in a 12 mm tube, 2 s: each interface carries the weight above
@@ -82,8 +82,8 @@ fn t8a_cylinder_on_its_face_rests_10_s() {
 /// 3.3e-15 / 2.1e-12, |v| 4.8e-10 / 1.1e-13 m/s, 20 contact rows. ~15 s wall in release.
 #[test]
 fn stack_of_five_cylinders_carries_the_weight_above() {
-    stack(5, EngineParams::default(), 1e-6);
-    stack(5, with_bias(EngineParams::default()), 1e-6);
+    stack(5, EngineParams::paper(), 1e-6);
+    stack(5, with_bias(EngineParams::paper()), 1e-6);
 }
 
 /// The same in recommended mode (static friction, stick clamp, bias).
@@ -97,7 +97,7 @@ fn stack_of_five_cylinders_carries_the_weight_above() {
 /// pen 1.3e-13 m.
 #[test]
 fn stack_of_five_cylinders_recommended_mode() {
-    stack(5, EngineParams::recommended(), 1e-6);
+    stack(5, recommended(), 1e-6);
 }
 
 /// Two stacked cylinders, 2 s, paper mode and bias: the smallest reproducer of the stack drift.
@@ -105,7 +105,7 @@ fn stack_of_five_cylinders_recommended_mode() {
 /// without them but with an exact-solver tolerance of 1e-9 g it saturates at 3e-8 rad/s.
 #[test]
 fn stack_of_two_cylinders_does_not_tilt() {
-    for params in [EngineParams::default(), with_bias(EngineParams::default())] {
+    for params in [EngineParams::paper(), with_bias(EngineParams::paper())] {
         let om = stack(2, params, 1e-8);
         assert!(om <= 1e-9, "|ω| {om}");
     }

@@ -45,15 +45,15 @@ fn t6_block_on_an_incline() {
     let th = 30f64.to_radians();
     let sliding = G * (th.sin() - 0.3 * th.cos());
     // Frictionless: g sinθ.
-    let (a, _) = incline(EngineParams::default(), 0.0);
+    let (a, _) = incline(EngineParams::paper(), 0.0);
     assert!(rel(a, G * th.sin()) <= 1e-2, "frictionless a {a}");
     // Paper mode: dynamic friction at the sliding resting contacts.
-    let (a, _) = incline(EngineParams::default(), 0.3);
+    let (a, _) = incline(EngineParams::paper(), 0.3);
     assert!(rel(a, sliding) <= 1e-2, "paper mu 0.3 a {a} (expected {sliding})");
     // Static friction switch: same sliding value, and no motion for μ = 0.7 > tan 30°.
-    let (a, _) = incline(EngineParams::recommended(), 0.3);
+    let (a, _) = incline(recommended(), 0.3);
     assert!(rel(a, sliding) <= 1e-2, "static-friction mode mu 0.3 a {a}");
-    let (_, v) = incline(EngineParams::recommended(), 0.7);
+    let (_, v) = incline(recommended(), 0.7);
     assert!(v < 1e-6, "mu 0.7 must stick: v {v}");
 }
 
@@ -64,7 +64,7 @@ fn t6_block_on_an_incline() {
 #[test]
 fn t6_block_on_an_incline_velocity_stepper() {
     let th = 30f64.to_radians();
-    let velocity = EngineParams { stepper: Stepper::Velocity, ..EngineParams::default() };
+    let velocity = EngineParams { stepper: Stepper::Velocity, ..EngineParams::paper() };
     let (a, _) = incline(velocity.clone(), 0.0);
     assert!(rel(a, G * th.sin()) <= 1e-2, "frictionless a {a}");
     let (_, v) = incline(velocity, 0.7);
@@ -77,7 +77,7 @@ fn tip(beta0_deg: f64) -> Option<(f64, f64, f64, f64)> {
     let (r, h) = (0.005, 0.005);
     let ty = BodyType::solid_cylinder(r, h).unwrap();
     let (mut w, t) =
-        shape_world(Container::tube(0.1).unwrap(), ty, material(0.5, 0.0), wall(0.5, 0.0), EngineParams::default());
+        shape_world(Container::tube(0.1).unwrap(), ty, material(0.5, 0.0), wall(0.5, 0.0), EngineParams::paper());
     let b0 = beta0_deg.to_radians();
     let z0 = h * b0.cos() + r * b0.sin();
     let q = Quat::from_axis_angle(&Vec3::y_axis(), b0);

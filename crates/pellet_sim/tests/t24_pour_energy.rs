@@ -61,8 +61,8 @@ fn resting_friction_never_adds_energy_in_a_mixed_pour() {
 fn friction_guard_drops_friction_that_would_do_positive_work() {
     let (r, h, tilt) = (0.002, 0.005, 45f64.to_radians());
     let params = EngineParams {
-        acceleration: AccelerationParams { eps_f: 1e-5, ..Default::default() },
-        ..EngineParams::default()
+        acceleration: AccelerationParams { eps_f: 1e-5, ..AccelerationParams::paper() },
+        ..EngineParams::paper()
     };
     let ty = BodyType::solid_cylinder(r, h).unwrap();
     let (mut w, t) = shape_world(Container::tube(0.1).unwrap(), ty, material(0.5, 0.05), wall(0.5, 0.05), params);

@@ -66,7 +66,7 @@ fn keeps_its_normal(shape: impl Fn() -> BodyType, lean: bool) {
     let mut rng = ChaCha8Rng::seed_from_u64(5);
     let (mut compared, mut worst, mut depth_error) = (0, 1.0 as Real, 0.0 as Real);
     for beta in [0.0, 0.4, -0.7] {
-        let mut w = World::new(Container::tube(0.2).unwrap(), mat, wall, EngineParams::default()).unwrap();
+        let mut w = World::new(Container::tube(0.2).unwrap(), mat, wall, EngineParams::paper()).unwrap();
         let geoms = [TypeGeometry::new(&shape()), TypeGeometry::new(&shape())];
         let ta = w.register_type(shape()).unwrap();
         let tb = w.register_type(shape()).unwrap();

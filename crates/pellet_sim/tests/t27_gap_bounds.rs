@@ -22,7 +22,7 @@ const TUBE_RADIUS: Real = 0.0102;
 fn world(a: BodyType, b: BodyType) -> (World, [TypeGeometry; 2]) {
     let mat = Material { density: 2000.0, cor: 0.5, friction: 0.3 };
     let wall = WallMaterial { cor: 0.5, friction: 0.3 };
-    let mut w = World::new(Container::tube(2.0 * TUBE_RADIUS).unwrap(), mat, wall, EngineParams::default()).unwrap();
+    let mut w = World::new(Container::tube(2.0 * TUBE_RADIUS).unwrap(), mat, wall, EngineParams::paper()).unwrap();
     let geoms = [TypeGeometry::new(&a), TypeGeometry::new(&b)];
     let ta = w.register_type(a).unwrap();
     let tb = w.register_type(b).unwrap();

@@ -10,7 +10,7 @@ use pellet_sim::{BodyType, Container, EngineParams, Quat, Stepper, Vec3};
 use std::f64::consts::FRAC_PI_2;
 
 fn velocity() -> EngineParams {
-    EngineParams { stepper: Stepper::Velocity, ..EngineParams::default() }
+    EngineParams { stepper: Stepper::Velocity, ..EngineParams::paper() }
 }
 
 struct Rest {

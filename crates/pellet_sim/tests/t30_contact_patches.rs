@@ -20,7 +20,7 @@ fn crossed(patch_radius: f64, times: &[f64]) -> (Vec<f64>, f64) {
     let params = EngineParams {
         stepper: Stepper::Velocity,
         velocity: VelocityParams { patch_radius, ..VelocityParams::default() },
-        ..EngineParams::default()
+        ..EngineParams::paper()
     };
     let ty = BodyType::solid_cylinder(R, H).unwrap();
     let (mut w, t) = shape_world(Container::tube(0.05).unwrap(), ty, material(0.5, MU), wall(0.5, MU), params);

@@ -65,6 +65,14 @@ fn case_files_parse_and_flags_override_them() {
 }
 
 #[test]
+fn a_run_without_engine_settings_runs_the_engine_defaults() {
+    let engine = |o: PackOptions| crate::driver::engine_params(&PackConfig::resolve(&o).unwrap());
+    assert_eq!(engine(base()), EngineParams::default());
+    let force_level = EngineParams { stepper: Stepper::Acceleration, ..EngineParams::default() };
+    assert_eq!(engine(PackOptions { stepper: Some(Stepper::Acceleration), ..base() }), force_level);
+}
+
+#[test]
 fn resting_band_and_clamp_rule_reach_the_engine() {
     use pellet_sim::FrictionClamp;
     let engine = |o: PackOptions| crate::driver::engine_params(&PackConfig::resolve(&o).unwrap());

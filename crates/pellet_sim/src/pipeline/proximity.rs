@@ -155,7 +155,7 @@ mod tests {
     const R: Real = 0.005;
 
     fn world(bound: ApproachBound, cylinder: bool) -> (World, TypeId) {
-        let mut params = EngineParams::default();
+        let mut params = EngineParams::paper();
         params.acceleration.approach_bound = bound;
         let mat = Material { density: 2000.0, cor: 0.5, friction: 0.3 };
         let wall = WallMaterial { cor: 0.5, friction: 0.3 };

@@ -18,7 +18,7 @@ pub fn wall(cor: Real, friction: Real) -> WallMaterial {
 }
 
 pub fn zero_gravity() -> EngineParams {
-    EngineParams { gravity: Vec3::zeros(), ..EngineParams::default() }
+    EngineParams { gravity: Vec3::zeros(), ..EngineParams::paper() }
 }
 
 /// World with one sphere type of radius `r` in a tube of diameter `tube_d`.
@@ -100,6 +100,19 @@ pub fn cylinder_stack(n: usize, params: EngineParams) -> (World, Vec<BodyId>) {
     (w, ids)
 }
 
+/// The paper's formulation ([`EngineParams::paper`]) with the recommended contact model: static
+/// friction, stick clamp, velocity bias.
+pub fn recommended() -> EngineParams {
+    let paper = EngineParams::paper();
+    let acceleration = AccelerationParams {
+        static_friction: true,
+        friction_clamp: pellet_sim::FrictionClamp::Stick,
+        velocity_bias: true,
+        ..paper.acceleration
+    };
+    EngineParams { acceleration, ..paper }
+}
+
 /// Recommended-mode switch used by "bias on" variants.
 pub fn with_bias(params: EngineParams) -> EngineParams {
     EngineParams { acceleration: AccelerationParams { velocity_bias: true, ..params.acceleration }, ..params }
@@ -111,8 +124,8 @@ pub fn with_bias(params: EngineParams) -> EngineParams {
 /// ledger diagnostic so they start from the same bed.
 pub fn mixed_pour(n: usize, seed: u64) -> World {
     use rand::{RngExt, SeedableRng};
-    let mut w = World::new(Container::tube(0.04).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), EngineParams::default())
-        .unwrap();
+    let mut w =
+        World::new(Container::tube(0.04).unwrap(), material(0.5, 0.3), wall(0.5, 0.3), EngineParams::paper()).unwrap();
     let cyl = w.register_type(BodyType::solid_cylinder(0.005, 0.005).unwrap()).unwrap();
     let ring = w.register_type(BodyType::hollow_cylinder(0.003, 0.005, 0.005).unwrap()).unwrap();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
