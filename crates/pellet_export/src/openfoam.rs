@@ -105,7 +105,7 @@ pub fn tube_stl(radius: Real, z0: Real, z1: Real, segments: usize) -> Vec<u8> {
 
 /// The fluid point farthest from every surface (pellets, wall, inlet,
 /// outlet), searched on a grid of `step`, then moved off that grid by
-/// [`OFF_GRID`]: snappyHexMesh keeps the cells connected to it and stops
+/// `OFF_GRID` (a few thousandths of a step): snappyHexMesh keeps the cells connected to it and stops
 /// when the point lies on a face of the mesh, and the search grid's points
 /// lie on the background mesh's faces when `step` is a whole number of its
 /// cells. Distances to a pellet are to its mesh vertices (close for the fine
