@@ -97,41 +97,42 @@ enum Piece {
 /// The convex hull of a ring's outer arc from angle `from` to `to` and of its bore's chord
 /// between the same angles, from z = −h to h.
 struct Wedge {
-    inner: Real,
     outer: Real,
     half_height: Real,
     from: Real,
     to: Real,
+    /// The outer arc's ends, then the chord's (x, y): computed once, as GJK asks for support
+    /// points many times per query.
+    corners: [(Real, Real); 4],
+}
+
+impl Wedge {
+    fn new(inner: Real, outer: Real, half_height: Real, from: Real, to: Real) -> Self {
+        let at = |r: Real, a: Real| (r * a.cos(), r * a.sin());
+        let corners = [at(outer, from), at(outer, to), at(inner, from), at(inner, to)];
+        Self { outer, half_height, from, to, corners }
+    }
 }
 
 impl parry3d_f64::shape::SupportMap for Wedge {
     fn local_support_point(&self, d: PVector) -> PVector {
         let z = if d.z >= 0.0 { self.half_height } else { -self.half_height };
-        let at = |r: Real, a: Real| (r * a.cos(), r * a.sin());
-        let mut candidates = vec![
-            at(self.outer, self.from),
-            at(self.outer, self.to),
-            at(self.inner, self.from),
-            at(self.inner, self.to),
-        ];
+        let along = |c: &(Real, Real)| d.x * c.0 + d.y * c.1;
+        let mut best = self.corners[0];
+        for c in &self.corners[1..] {
+            if along(c) > along(&best) {
+                best = *c;
+            }
+        }
         // The arc's point furthest along d is at d's own angle when the arc holds it, else an end.
         let phi = d.y.atan2(d.x);
         if (phi - self.from).rem_euclid(std::f64::consts::TAU) <= self.to - self.from {
-            candidates.push(at(self.outer, phi));
+            let c = (self.outer * phi.cos(), self.outer * phi.sin());
+            if along(&c) > along(&best) {
+                best = c;
+            }
         }
-        let along = |c: &(Real, Real)| d.x * c.0 + d.y * c.1;
-        let (x, y) =
-            candidates.into_iter().fold(
-                at(self.outer, self.from),
-                |best, c| {
-                    if along(&c) > along(&best) {
-                        c
-                    } else {
-                        best
-                    }
-                },
-            );
-        PVector::new(x, y, z)
+        PVector::new(best.0, best.1, z)
     }
 }
 
@@ -175,17 +176,10 @@ fn groups(shape: &ClosedForm) -> Vec<(Posed, Vec<Posed>)> {
                 let mid = 0.5 * (from + to);
                 let r = 0.5 * (inner_radius + outer_radius);
                 let centre = Point::new(r * mid.cos(), r * mid.sin(), 0.0);
+                let w = Wedge::new(inner_radius, outer_radius, half_height, from, to);
                 // The farthest points from the centre are corners: the arc bulges towards it.
-                let reach = [(outer_radius, from), (outer_radius, to), (inner_radius, from), (inner_radius, to)]
-                    .iter()
-                    .map(|&(rr, a)| (rr * a.cos() - centre.x).hypot(rr * a.sin() - centre.y))
-                    .fold(0.0, Real::max);
-                Posed {
-                    piece: Piece::Wedge(Wedge { inner: inner_radius, outer: outer_radius, half_height, from, to }),
-                    pose: Pose::IDENTITY,
-                    centre,
-                    radius: reach.hypot(half_height),
-                }
+                let reach = w.corners.iter().map(|&(x, y)| (x - centre.x).hypot(y - centre.y)).fold(0.0, Real::max);
+                Posed { piece: Piece::Wedge(w), pose: Pose::IDENTITY, centre, radius: reach.hypot(half_height) }
             };
             (0..RING_WEDGES / WEDGES_PER_GROUP)
                 .map(|g| {

@@ -159,7 +159,7 @@ fn tube_points(a: &Pellet<'_>, rot: &Mat3, k: usize) -> Vec<(Vec3, u32)> {
         // A local minimum of −ρ among the scan (ties towards the lower index).
         if scan[s] <= prev && scan[s] < next {
             let t0 = step * s as Real;
-            let near = AngleNear::new(t0);
+            let near = AngleNear::with_cos_sin(t0, angles[s].0, angles[s].1);
             let f = |t: Real| {
                 let (c, s) = near.cos_sin(t);
                 neg_rho(c, s)
@@ -198,12 +198,14 @@ fn tube_points(a: &Pellet<'_>, rot: &Mat3, k: usize) -> Vec<(Vec3, u32)> {
     vec![(points[first], k as u32), (points[1 - first], k as u32 + TUBE_SECOND)]
 }
 
-/// (cos, sin) of the tube scan's angles, computed once.
+/// (cos, sin) of the tube scan's angles (`TAU / TUBE_SCAN` × s, as `tube_points` spells them),
+/// computed once.
 fn scan_angles() -> &'static [(Real, Real); TUBE_SCAN] {
     static ANGLES: OnceLock<[(Real, Real); TUBE_SCAN]> = OnceLock::new();
     ANGLES.get_or_init(|| {
         std::array::from_fn(|s| {
-            let (sin, cos) = (TAU / TUBE_SCAN as Real * s as Real).sin_cos();
+            let step = TAU / TUBE_SCAN as Real;
+            let (sin, cos) = (step * s as Real).sin_cos();
             (cos, sin)
         })
     })

@@ -9,8 +9,8 @@ use crate::math::{Real, Vec3};
 /// to about this, no coarser than 14 golden-section steps would (interval × 0.618¹⁴ ≈ 1.2e-3,
 /// half of it either way).
 const RIM_TOL: Real = 3e-4;
-/// Evaluations after which the search along a rim stops (Brent's method takes 6–12 on a smooth
-/// minimum and about the golden section's 16 on a kink).
+/// Evaluations after which the search along a rim stops (Brent's method takes about 6 on a
+/// smooth minimum and 14 on a kink, where the golden section took 16).
 const RIM_EVALS: usize = 40;
 /// Golden-section iterations of the search into a face: its interval (`EDGE_BAND` · R_b,
 /// ~70 µm for the paper's pellets) × 0.618¹² ≈ 3e-3, 0.2 µm, the resolution of the depth there.
@@ -151,6 +151,11 @@ const fn steps(odd: usize) -> [Real; SERIES] {
 impl AngleNear {
     pub(crate) fn new(t0: Real) -> Self {
         let (s0, c0) = t0.sin_cos();
+        Self { t0, c0, s0 }
+    }
+
+    /// Angles near `t0`, whose cosine `c0` and sine `s0` are known already.
+    pub(crate) fn with_cos_sin(t0: Real, c0: Real, s0: Real) -> Self {
         Self { t0, c0, s0 }
     }
 
