@@ -11,16 +11,17 @@
 use serde::{Deserialize, Serialize};
 
 use pellet_settle::EnergySample;
-use pellet_sim::{WarmForce, WarmImpulse, WorldState};
+use pellet_sim::{Manifold, WarmForce, WarmImpulse, WorldState};
 
 use crate::config::PackConfig;
 use crate::driver::{Ending, PackError};
 use crate::loading::FeederState;
 
-/// Version of the checkpoint layout. A reader accepts its own, version 2 (whose warm impulses
-/// lack the torques of the contacts' patches) and version 1 (written before the
-/// velocity-level stepper, whose impulses and integrator ledger it lacks).
-pub const CHECKPOINT_VERSION: u32 = 3;
+/// Version of the checkpoint layout. A reader accepts its own, version 3 (without the
+/// velocity-level stepper's contact manifolds), version 2 (whose warm impulses also lack the
+/// torques of the contacts' patches) and version 1 (written before the velocity-level stepper,
+/// whose impulses and integrator ledger it lacks).
+pub const CHECKPOINT_VERSION: u32 = 4;
 
 /// The driver's state between two steps, apart from the world and the loader.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -60,6 +61,8 @@ pub struct Checkpoint {
     pub run: RunState,
     /// The velocity-level stepper's warm impulses (empty for the other stepper).
     pub impulses: Vec<WarmImpulse>,
+    /// The velocity-level stepper's contact manifolds (empty for the other stepper).
+    pub manifolds: Vec<Manifold>,
 }
 
 impl Checkpoint {
@@ -81,6 +84,9 @@ impl Checkpoint {
             .map_err(|e| setup(e.to_string()))?;
         match version {
             CHECKPOINT_VERSION => pellet_io::decode_message(bytes, path, "checkpoint").map_err(|e| setup(e.to_string())),
+            3 => pellet_io::decode_message::<v3::Checkpoint>(bytes, path, "checkpoint")
+                .map(v3::Checkpoint::upgrade)
+                .map_err(|e| setup(e.to_string())),
             2 => pellet_io::decode_message::<v2::Checkpoint>(bytes, path, "checkpoint")
                 .map(v2::Checkpoint::upgrade)
                 .map_err(|e| setup(e.to_string())),
@@ -90,6 +96,37 @@ impl Checkpoint {
             _ => Err(setup(format!(
                 "{path}: checkpoint version {version}, this pack reads versions 1 to {CHECKPOINT_VERSION}; run without --resume"
             ))),
+        }
+    }
+}
+
+/// The layout of version 3, read into the current one: no contact manifolds; the next step
+/// finds every contact afresh.
+mod v3 {
+    use super::*;
+
+    #[derive(Deserialize)]
+    pub(super) struct Checkpoint {
+        version: u32,
+        world: WorldState,
+        warm: Vec<WarmForce>,
+        feeder: FeederState,
+        run: RunState,
+        impulses: Vec<WarmImpulse>,
+    }
+
+    impl Checkpoint {
+        pub(super) fn upgrade(self) -> super::Checkpoint {
+            debug_assert_eq!(self.version, 3);
+            super::Checkpoint {
+                version: CHECKPOINT_VERSION,
+                world: self.world,
+                warm: self.warm,
+                feeder: self.feeder,
+                run: self.run,
+                impulses: self.impulses,
+                manifolds: Vec::new(),
+            }
         }
     }
 }
@@ -139,6 +176,7 @@ mod v2 {
                 feeder: self.feeder,
                 run: self.run,
                 impulses,
+                manifolds: Vec::new(),
             }
         }
     }
@@ -199,6 +237,7 @@ mod v1 {
                 feeder: self.feeder,
                 run: self.run,
                 impulses: Vec::new(),
+                manifolds: Vec::new(),
             }
         }
     }

@@ -217,7 +217,9 @@ pub fn resume_pack(
         Some(c) => {
             let time_s = c.time_s();
             world.restore(c.world).map_err(|e| PackError::Engine { time_s, message: e.to_string() })?;
-            pipeline = Pipeline::with_warm_state(&c.warm, &c.impulses).with_threads(config.threads as usize);
+            pipeline = Pipeline::with_warm_state(&c.warm, &c.impulses)
+                .with_manifolds(c.manifolds)
+                .with_threads(config.threads as usize);
             feeder.set_state(c.feeder);
             run = RunState { ending: None, ..c.run };
         }
@@ -241,6 +243,7 @@ pub fn resume_pack(
         feeder: feeder.state(),
         run: run.clone(),
         impulses: pipeline.warm_impulses(),
+        manifolds: pipeline.manifolds(),
     };
     let mut recent: std::collections::VecDeque<(f64, SolverStats)> = Default::default();
     let mut end_penetration: f64;

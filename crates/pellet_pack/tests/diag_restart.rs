@@ -93,7 +93,7 @@ fn restart_from_a_frame() {
         let bytes = traj.checkpoint.as_ref().expect("the trajectory has a checkpoint");
         let c = pellet_pack::Checkpoint::decode(bytes, &path).expect("a readable checkpoint");
         world.restore(c.world).expect("the checkpoint fits the world");
-        pipeline = Pipeline::with_warm_state(&c.warm, &c.impulses);
+        pipeline = Pipeline::with_warm_state(&c.warm, &c.impulses).with_manifolds(c.manifolds);
         println!("continuing from its last checkpoint at t = {:.4} s", world.time());
     }
     let start: Vec<Vec3> = world.bodies().iter().map(|b| b.position).collect();

@@ -111,6 +111,29 @@ fn resumed_equals_whole(stepper: Stepper) {
     assert_eq!(rest.checkpoints.last().map(|c| c.0), whole.checkpoints.last().map(|c| c.0));
 }
 
+/// Late in a pour, where pellets rest on each other and their contacts are carried from
+/// step to step, a checkpoint's contact manifolds decide the steps after it: resumed with
+/// them the run is the uninterrupted one, without them it is not.
+#[test]
+fn a_resumed_run_carries_the_contact_manifolds() {
+    let config = config_with(LIMIT, Stepper::Velocity);
+    let pellet = cylinder();
+    let mut whole = Recorder::default();
+    run_pack(&config, &pellet, &mut whole).unwrap();
+    let (t, bytes) =
+        whole.checkpoints.iter().find(|c| (c.0 - 0.5).abs() < 1e-9).expect("a checkpoint at 0.5 s").clone();
+    let checkpoint = Checkpoint::decode(&bytes, "test").unwrap();
+    assert!(!checkpoint.manifolds.is_empty());
+    let (frames, energy) = after(&whole, t);
+    let mut rest = Recorder::default();
+    resume_pack(&config, &pellet, &mut rest, Some(checkpoint.clone())).unwrap();
+    assert_eq!(rest.frames, frames);
+    assert_eq!(rest.energy, energy);
+    let mut forgetful = Recorder::default();
+    resume_pack(&config, &pellet, &mut forgetful, Some(Checkpoint { manifolds: Vec::new(), ..checkpoint })).unwrap();
+    assert_ne!(forgetful.frames, frames, "the manifolds made no difference: the test shows nothing");
+}
+
 fn key(s: &pellet_pack::RunSummary) -> (Ending, f64, u32, f64, u64) {
     (s.ending.clone(), s.time_s, s.pellets, s.max_penetration_m, s.substeps)
 }
@@ -168,5 +191,42 @@ fn a_layout_2_checkpoint_is_read_with_no_torques() {
     for w in &mut want.impulses {
         w.torque = pellet_sim::Vec3::zeros();
     }
+    want.manifolds.clear();
     assert_eq!(read, want);
+}
+
+/// A checkpoint of layout 3, written before contact manifolds were kept, is read with none
+/// and everything else as written; a run resumed from it finds every contact afresh and goes
+/// on.
+#[test]
+fn a_layout_3_checkpoint_is_read_without_manifolds() {
+    use serde::Serialize;
+    #[derive(Serialize)]
+    struct Layout3<'a> {
+        version: u32,
+        world: &'a pellet_sim::WorldState,
+        warm: &'a [pellet_sim::WarmForce],
+        feeder: &'a pellet_pack::FeederState,
+        run: &'a pellet_pack::RunState,
+        impulses: &'a [pellet_sim::WarmImpulse],
+    }
+    let mut whole = Recorder::default();
+    run_pack(&config_with(0.6, Stepper::Velocity), &cylinder(), &mut whole).unwrap();
+    let now = Checkpoint::decode(&whole.checkpoints.last().unwrap().1, "x.mcap").unwrap();
+    assert!(!now.manifolds.is_empty(), "a cylinder bed in contact keeps manifolds");
+    let old = Layout3 {
+        version: 3,
+        world: &now.world,
+        warm: &now.warm,
+        feeder: &now.feeder,
+        run: &now.run,
+        impulses: &now.impulses,
+    };
+    let read = Checkpoint::decode(&pellet_io::encode_message(&old).unwrap(), "x.mcap").unwrap();
+    let mut want = now.clone();
+    want.manifolds.clear();
+    assert_eq!(read, want);
+    let mut rest = Recorder::default();
+    resume_pack(&config_with(0.8, Stepper::Velocity), &cylinder(), &mut rest, Some(read)).unwrap();
+    assert!(rest.frames.last().is_some_and(|f| f.time_s > 0.79), "the run went on to its limit");
 }

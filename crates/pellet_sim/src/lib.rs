@@ -41,6 +41,7 @@ pub use body::{Body, BodyId, TypeId};
 pub use container::{Container, PlaneWall, WallId};
 pub use error::SimError;
 pub use geometry::contact::{Contact, ContactKey, Counterpart};
+pub use geometry::manifold::Manifold;
 pub use geometry::sdf::SdfGrid;
 pub use math::{Mat3, Quat, Real, Vec3};
 pub use params::{

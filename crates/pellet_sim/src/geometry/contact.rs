@@ -14,7 +14,7 @@ pub enum Counterpart {
 }
 
 /// How the second time derivative of the gap is formed (the b of the resting LCP).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum GapKinematics {
     /// Exact sphere–sphere gap |x_A − x_B| − R_A − R_B (centre distance given).
     SphereSphere {
@@ -45,7 +45,7 @@ pub enum GapKinematics {
 }
 
 /// Which body carries a contact normal (its time derivative is ω_owner × n).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum NormalOwner {
     /// Body A.
     A,
@@ -67,7 +67,7 @@ pub struct ContactKey {
 }
 
 /// One contact point. The normal points from B into A; `gap` < 0 means penetration.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Contact {
     /// Body A (dynamic).
     pub a: usize,

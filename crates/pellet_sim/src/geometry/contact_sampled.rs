@@ -8,7 +8,7 @@
 use super::contact::{Contact, ContactKey, Counterpart, GapKinematics, NormalOwner};
 use super::contact_lateral::{lateral_hit, on_outer_side, redundant_hit, LATERAL};
 use super::narrow_phase::Pellet;
-use super::patch::{patches, reduce, Hit, NEAR_BAND, WEDGE_COS};
+use super::patch::{patches, reduce, Hit, MERGE, NEAR_BAND, WEDGE_COS};
 use super::rim_refine::{deepest_on_line, rim_faces, rim_min, AngleNear};
 use super::sample_cache::{PairSamples, SAMPLE_CACHE_MARGIN};
 use super::samples::cone_alignment;
@@ -404,16 +404,19 @@ pub fn sampled_pair(
         }
     }
     hits.extend(lateral.filter(|h| h.gap <= max_gap));
-    contacts_of(a, b, hits, kept, out);
+    contacts_of(a, b, hits, kept, lean, out);
 }
 
-/// The contacts of a pair's hits: patched by normal and each patch reduced.
-fn contacts_of(a: Pellet<'_>, b: Pellet<'_>, mut hits: Vec<Hit>, kept: &[u32], out: &mut Vec<Contact>) {
+/// The contacts of a pair's hits: patched by normal and each patch reduced (`lean`: points
+/// within `MERGE` of each other merged).
+fn contacts_of(a: Pellet<'_>, b: Pellet<'_>, mut hits: Vec<Hit>, kept: &[u32], lean: bool, out: &mut Vec<Contact>) {
+    let r_min = a.geom.bounding_radius.min(b.geom.bounding_radius);
+    let merge = if lean { MERGE * r_min } else { 0.0 };
     for patch in patches(&mut hits) {
         let first = &hits[patch[0]];
         let (normal, owner) = (first.normal, first.owner);
-        let band = NEAR_BAND * a.geom.bounding_radius.min(b.geom.bounding_radius);
-        for k in reduce(&hits, &patch, &normal, band, kept) {
+        let band = NEAR_BAND * r_min;
+        for k in reduce(&hits, &patch, &normal, band, kept, merge) {
             out.push(contact(&a, &b, &hits[k], normal, owner));
         }
     }

@@ -244,7 +244,7 @@ fn samples_wall(container: &Container, wall: WallId, a: &Pellet<'_>, max_gap: Re
     let mut order: Vec<usize> = (0..hits.len()).collect();
     order.sort_by(|&i, &j| hits[i].gap.total_cmp(&hits[j].gap).then(i.cmp(&j)));
     let n = hits[order[0]].normal;
-    for k in reduce(&hits, &order, &n, NEAR_BAND * a.geom.bounding_radius, &[]) {
+    for k in reduce(&hits, &order, &n, NEAR_BAND * a.geom.bounding_radius, &[], 0.0) {
         let h = &hits[k];
         out.push(make(a, wall, h.pa, h.normal, h.gap, kins[k], h.feature));
     }

@@ -4,12 +4,14 @@
 //! contact tests drive directly.
 
 mod broad_phase;
+pub(crate) mod carried;
 pub(crate) mod contact;
 mod contact_lateral;
 pub(crate) mod contact_sampled;
 mod contact_shape_wall;
 pub(crate) mod contact_sphere_sphere;
 mod contact_sphere_wall;
+pub(crate) mod manifold;
 pub mod narrow_phase;
 pub(crate) mod pair_cache;
 mod patch;

@@ -35,6 +35,15 @@ const KEEP_SCORE: Real = 0.9;
 /// left out by more than that).
 const KEEP_DEPTH: Real = 1e-5;
 
+/// Points of one patch closer than this many bounding radii (14 µm for the paper's pellets)
+/// are one contact under the velocity-level stepper's rules. Two rows at one place are one row
+/// twice: Gauss–Seidel moves load between them a sliver per sweep and never converges. Two
+/// standing cylinders side by side with level tops gave the side patch A's top rim on B's side
+/// and B's top rim on A's side at one place, one closed (target 0) and one open by 7.5e-10 m
+/// (target −6e-7 m/s); every step of the bed at rest ended at the sweep cap with a residual of
+/// 6e-7 m/s.
+pub(crate) const MERGE: Real = 2e-3;
+
 /// One candidate contact point before patching.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Hit {
@@ -131,12 +140,44 @@ pub(crate) fn patches(hits: &mut Vec<Hit>) -> Vec<Vec<usize>> {
 /// `kept` (sorted features) are the points the pair had in the last step: each pick takes one
 /// of them when it does nearly as well as the best (`KEEP_SCORE`, `KEEP_DEPTH`).
 ///
+/// With `merge` > 0, of the points picked closer together than `merge` only one stays
+/// (`MERGE`).
+///
 /// The third and fourth points must add at least `SPREAD` of the extent as a triangle's height,
 /// from whichever points they come: a thin lens of two caps crossing each other kept a point
 /// 0.17 mm beside another of a 10 mm patch, on the same normal; their rows were nearly one, and
 /// with gaps differing by nanometres the solve moved their load from one to the other by
 /// 3e-9 N·s a sweep, never converging (`docs/engine.md`, "Contact generation").
-pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real, kept: &[u32]) -> Reduced {
+pub(crate) fn reduce(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real, kept: &[u32], merge: Real) -> Reduced {
+    let picked = reduce_spread(hits, patch, n, band, kept);
+    if merge > 0.0 && picked.len > 1 {
+        merged(hits, picked, kept, merge)
+    } else {
+        picked
+    }
+}
+
+/// `picked` without the points that lie within `merge` of an earlier one (deepest first): one
+/// place, one row. Of two such points the earlier stays, unless only the later was kept from
+/// the last step.
+fn merged(hits: &[Hit], picked: Reduced, kept: &[u32], merge: Real) -> Reduced {
+    let was_kept = |i: usize| kept.binary_search(&hits[i].feature).is_ok();
+    let mut out = Reduced { kept: [0; 4], len: 0 };
+    for i in picked {
+        let close = out.kept[..out.len].iter().position(|&j| (hits[i].pa - hits[j].pa).norm() < merge);
+        match close {
+            None => {
+                out.kept[out.len] = i;
+                out.len += 1;
+            }
+            Some(k) if was_kept(i) && !was_kept(out.kept[k]) => out.kept[k] = i,
+            Some(_) => {}
+        }
+    }
+    out
+}
+
+fn reduce_spread(hits: &[Hit], patch: &[usize], n: &Vec3, band: Real, kept: &[u32]) -> Reduced {
     if patch.len() <= 4 {
         return Reduced::of(patch);
     }
@@ -228,5 +269,45 @@ impl IntoIterator for Reduced {
     type IntoIter = std::iter::Take<std::array::IntoIter<usize, 4>>;
     fn into_iter(self) -> Self::IntoIter {
         self.kept.into_iter().take(self.len)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hit(x: Real, y: Real, gap: Real, feature: u32) -> Hit {
+        let pa = Vec3::new(x, y, 0.0);
+        Hit { pa, pb: pa - Vec3::z() * gap, normal: Vec3::z(), gap, feature, owner: NormalOwner::B, wedge: None }
+    }
+
+    fn reduced(hits: &[Hit], kept: &[u32], merge: Real) -> Vec<u32> {
+        let patch: Vec<usize> = (0..hits.len()).collect();
+        reduce(hits, &patch, &Vec3::z(), 1e-5, kept, merge).into_iter().map(|k| hits[k].feature).collect()
+    }
+
+    #[test]
+    fn points_at_one_place_merge_into_the_deepest() {
+        // Two rims meeting at one place (1 µm apart) and a third point 8 mm away.
+        let hits = [hit(0.0, 0.0, -3e-7, 1), hit(1e-6, 0.0, 7e-10, 2), hit(8e-3, 0.0, -1e-7, 3)];
+        assert_eq!(reduced(&hits, &[], 0.0), vec![1, 2, 3], "no merging asked: all three");
+        assert_eq!(reduced(&hits, &[], 1.4e-5), vec![1, 3]);
+    }
+
+    #[test]
+    fn a_merged_place_keeps_the_point_kept_from_the_last_step() {
+        let hits = [hit(0.0, 0.0, -3e-7, 1), hit(1e-6, 0.0, 7e-10, 2), hit(8e-3, 0.0, -1e-7, 3)];
+        assert_eq!(reduced(&hits, &[2, 3], 1.4e-5), vec![2, 3]);
+    }
+
+    #[test]
+    fn a_large_patch_reduced_to_four_spread_points_loses_none_to_merging() {
+        let mut hits = Vec::new();
+        for (k, (x, y)) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0), (0.5, 0.5), (0.5, 0.0)].iter().enumerate() {
+            hits.push(hit(x * 1e-2, y * 1e-2, -1e-7 * (k as Real + 1.0), k as u32));
+        }
+        let plain = reduced(&hits, &[], 0.0);
+        assert_eq!(plain.len(), 4);
+        assert_eq!(reduced(&hits, &[], 1.4e-5), plain);
     }
 }

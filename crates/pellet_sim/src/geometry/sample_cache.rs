@@ -116,6 +116,16 @@ impl SampleCache {
         self.pairs.insert((i, j), (self.round, samples));
     }
 
+    /// Keeps the entry of pair (i, j), if any, through the next [`Self::next_round`] although
+    /// it was not looked up: its pair's contacts were carried this round (`manifold`), and
+    /// the samples serve when it is next collided.
+    pub fn keep(&mut self, i: usize, j: usize) {
+        let round = self.round;
+        if let Some(e) = self.pairs.get_mut(&(i, j)) {
+            e.0 = round;
+        }
+    }
+
     /// The entry of pair (i, j), created empty if new.
     pub fn entry(&mut self, i: usize, j: usize) -> &mut PairSamples {
         self.lookups += 1;

@@ -5,6 +5,7 @@ mod acceleration_step;
 mod ledger;
 mod projection;
 mod proximity;
+mod speculative;
 mod step;
 mod threads;
 mod velocity_step;

@@ -7,6 +7,7 @@ use crate::body::Body;
 use crate::container::Container;
 use crate::dynamics::stabilize::{project_positions, GapBounds, ProjectionStats};
 use crate::error::SimError;
+use crate::geometry::carried::{carriable, carried, relative_drift, Pose};
 use crate::geometry::contact::Contact;
 use crate::geometry::contact_sampled::gap_jump;
 use crate::geometry::narrow_phase::{collide_feature, Pellet};
@@ -51,7 +52,11 @@ impl World {
         let g = self.params.gravity;
         let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
         let lean = self.params.stepper == Stepper::Velocity;
-        let eval = |bodies: &[Body], c: &Contact| reevaluate(types, geometry, container, bodies, c, lean);
+        let carry = if lean { self.params.velocity.carry_drift * d } else { -1.0 };
+        let eval = |bodies: &[Body], c: &Contact| {
+            carry_or_reevaluate(generated_at, bodies, c, carry)
+                .unwrap_or_else(|| reevaluate(types, geometry, container, bodies, c, lean))
+        };
         let mut bodies = std::mem::take(&mut self.bodies);
         let clock = std::time::Instant::now();
         let proj = project_positions(&mut bodies, contacts, generated_at, &eval, bounds, slop, 0.01 * d, &g);
@@ -85,6 +90,28 @@ impl World {
         }
         Ok(Some(proj))
     }
+}
+
+/// `c` carried from `generated_at` to `bodies` (`geometry::carried`) if its pair has moved by
+/// no more than `limit` (m) relative to each other since; `None` to evaluate it again. `Some`
+/// holds the carried contact.
+fn carry_or_reevaluate(generated_at: &[Body], bodies: &[Body], c: &Contact, limit: Real) -> Option<Option<Contact>> {
+    if !carriable(c) {
+        return None;
+    }
+    let pose = |set: &[Body], k: usize| Pose::of(&set[k]);
+    let (a_then, a_now) = (pose(generated_at, c.a), pose(bodies, c.a));
+    let b = c.b_body().map(|b| (pose(generated_at, b), pose(bodies, b)));
+    let drift = match &b {
+        Some((b_then, b_now)) => {
+            relative_drift(b_then, b_now, Some((&a_then, &a_now)), bodies[c.b_body()?].bounding_radius)
+        }
+        None => relative_drift(&a_then, &a_now, None, bodies[c.a].bounding_radius),
+    };
+    if drift > limit {
+        return None;
+    }
+    carried(c, &a_then, &a_now, b.as_ref().map(|(t, n)| (t, n))).map(Some)
 }
 
 /// Re-evaluates one contact's feature at the given poses (the narrow phase for that feature).

@@ -9,6 +9,7 @@ use crate::body::Body;
 use crate::dynamics::integrator::advance;
 use crate::error::SimError;
 use crate::geometry::contact::{Contact, ContactKey};
+use crate::geometry::manifold::{Manifold, Manifolds};
 use crate::geometry::narrow_phase::Pellet;
 use crate::geometry::pair_cache::PairCache;
 use crate::geometry::sample_cache::SampleCache;
@@ -37,6 +38,10 @@ pub struct Pipeline {
     pub(super) warm: Vec<WarmForce>,
     /// The velocity-level stepper's impulses of the last step, sorted by key.
     pub(super) impulses: Vec<WarmImpulse>,
+    /// The velocity-level stepper's contact manifolds of the last step, by pair: they decide
+    /// which contacts the next step carries instead of finding again, so a checkpoint carries
+    /// them.
+    pub(super) manifolds: Manifolds,
     pub(super) saved: Vec<Body>,
     /// The last committed substep's contacts and their resting forces (normal, friction),
     /// kept as the substep left them; `last_contacts` pairs them up when asked (building the
@@ -130,6 +135,18 @@ impl Pipeline {
         p.impulses = impulses.to_vec();
         p.impulses.sort_by_key(|w| w.key);
         p
+    }
+
+    /// The velocity-level stepper's contact manifolds, sorted by pair (empty for the other
+    /// stepper).
+    pub fn manifolds(&self) -> Vec<Manifold> {
+        self.manifolds.as_slice().to_vec()
+    }
+
+    /// `self` with the contact manifolds `manifolds` (as returned by [`Self::manifolds`]).
+    pub fn with_manifolds(mut self, manifolds: Vec<Manifold>) -> Self {
+        self.manifolds = Manifolds::from_unsorted(manifolds);
+        self
     }
 
     /// The contacts of the last committed substep.

@@ -18,15 +18,14 @@ use crate::dynamics::integrator::advance;
 use crate::dynamics::rows::relative_velocity_from;
 use crate::error::SimError;
 use crate::geometry::contact::{Contact, ContactKey, Counterpart};
-use crate::geometry::narrow_phase::{collide_pair_kept, collide_wall};
 use crate::math::{Real, Vec3};
 use crate::shape::ShapeDesc;
 
 /// Near pairs and walls over the coming step, with the bound on each one's relative surface
 /// speed (m/s) that sizes its speculative contacts.
-struct Near {
-    pairs: Vec<(usize, usize, Real)>,
-    walls: Vec<(usize, WallId, Real)>,
+pub(super) struct Near {
+    pub(super) pairs: Vec<(usize, usize, Real)>,
+    pub(super) walls: Vec<(usize, WallId, Real)>,
     /// The speed that sizes the step: the largest relative surface speed of a touching pair,
     /// or closing speed of one that does not touch yet.
     step_speed: Real,
@@ -139,6 +138,7 @@ impl World {
                 report.free_flights += 1;
                 self.time = if horizon == remaining { t_end } else { self.time + horizon };
                 pipeline.impulses.clear();
+                pipeline.manifolds.clear();
                 pipeline.set_last_contacts(Vec::new(), Vec::new(), Vec::new());
                 continue;
             }
@@ -152,33 +152,6 @@ impl World {
             self.velocity_substep(h, n == 1.0, t_end, &near, pipeline, report)?;
         }
         Ok(())
-    }
-
-    fn speculative_contacts(&self, near: &Near, h: Real, pipeline: &mut Pipeline) -> Result<Vec<Contact>, SimError> {
-        let delta_c = self.params.contact_distance_factor * self.reference_size();
-        let g = self.params.gravity.norm();
-        pipeline.samples.next_round();
-        if pipeline.threads > 1 {
-            let pairs = near.pairs.iter().map(|&(i, j, s)| (i, j, delta_c + s * h));
-            let walls = near.walls.iter().map(|&(k, wall, s)| (k, wall, delta_c + s * h + g * h * h));
-            let memory = Some(pipeline.impulses.as_slice());
-            return self.contacts_on_threads(pairs, walls, &mut pipeline.samples, memory, pipeline.threads);
-        }
-        let mut out = Vec::with_capacity(near.pairs.len() + near.walls.len());
-        let mut kept = Vec::new();
-        for &(i, j, s) in &near.pairs {
-            let (ti, tj) = (self.bodies[i].type_id.0 as usize, self.bodies[j].type_id.0 as usize);
-            let pa = self.pellet(&self.bodies, i, ti);
-            let pb = self.pellet(&self.bodies, j, tj);
-            kept_features(&pipeline.impulses, i, j, &mut kept);
-            collide_pair_kept(pa, pb, delta_c + s * h, &mut pipeline.samples, &kept, &mut out)?;
-        }
-        for &(k, wall, s) in &near.walls {
-            let t = self.bodies[k].type_id.0 as usize;
-            let pa = self.pellet(&self.bodies, k, t);
-            collide_wall(&self.container, wall, pa, delta_c + s * h + g * h * h, &mut out)?;
-        }
-        Ok(out)
     }
 
     #[allow(clippy::too_many_arguments)]
