@@ -225,7 +225,8 @@ pub struct VelocityParams {
     /// Largest relative motion of a pair (or of a pellet against a wall) since its contacts
     /// were found over which position projection carries them with the bodies instead of
     /// evaluating them again, factor of `d` (`docs/engine.md`, "Contacts carried with their
-    /// bodies"): a carried gap errs by at most twice that motion. 0: always evaluated again.
+    /// bodies"): a carried gap errs by at most twice that motion, a carried point's lever by
+    /// that motion. 0, or `patch_radius` 0: always evaluated again.
     pub carry_drift: Real,
 }
 

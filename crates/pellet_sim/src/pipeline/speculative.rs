@@ -48,7 +48,7 @@ impl World {
     ) -> Result<Vec<Contact>, SimError> {
         let delta_c = self.params.contact_distance_factor * self.reference_size();
         let g = self.params.gravity.norm();
-        let limit = self.params.velocity.carry_drift * self.reference_size();
+        let limit = self.carry_limit();
         let sphere = |k: usize| matches!(self.types[self.bodies[k].type_id.0 as usize].shape, ShapeDesc::Sphere { .. });
         let shape = |k: usize| &self.types[self.bodies[k].type_id.0 as usize].shape;
         let pose = |k: usize| Pose::of(&self.bodies[k]);
