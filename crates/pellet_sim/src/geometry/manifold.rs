@@ -98,10 +98,15 @@ impl Manifolds {
         Self { sorted: list }
     }
 
-    /// The manifold of `a` and `b`, if kept.
-    pub(crate) fn get(&self, a: usize, b: Counterpart) -> Option<&Manifold> {
+    /// The place of the manifold of `a` and `b` among [`Self::as_slice`], if kept.
+    pub(crate) fn index_of(&self, a: usize, b: Counterpart) -> Option<usize> {
         let key = (a as u32, b);
-        self.sorted.binary_search_by(|m| m.key().cmp(&key)).ok().map(|k| &self.sorted[k])
+        self.sorted.binary_search_by(|m| m.key().cmp(&key)).ok()
+    }
+
+    /// The manifolds one by one, each to be taken out once (none is cloned).
+    pub(crate) fn into_parts(self) -> Vec<Option<Manifold>> {
+        self.sorted.into_iter().map(Some).collect()
     }
 
     /// All of them, sorted by pair.

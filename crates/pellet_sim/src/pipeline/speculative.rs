@@ -22,8 +22,9 @@ const REACH_MARGIN: Real = 3.0;
 
 /// Where a near pair's or wall's contacts come from this step.
 enum Source {
-    /// Carried from its manifold: this range of the carried contacts.
-    Carried(std::ops::Range<usize>),
+    /// Carried from its manifold (at this place among the last step's): this range of the
+    /// carried contacts.
+    Carried(std::ops::Range<usize>, usize),
     /// The narrow phase, looking to `reach`; `keep`: its answer becomes the pair's manifold.
     Found { reach: Real, keep: bool },
 }
@@ -53,6 +54,7 @@ impl World {
         let shape = |k: usize| &self.types[self.bodies[k].type_id.0 as usize].shape;
         let pose = |k: usize| Pose::of(&self.bodies[k]);
         pipeline.samples.next_round();
+        let old = std::mem::take(&mut pipeline.manifolds);
 
         let mut carried = Vec::new();
         let mut items = Vec::with_capacity(near.pairs.len() + near.walls.len());
@@ -63,9 +65,10 @@ impl World {
                     Counterpart::Wall(_) => (None, self.bodies[a].bounding_radius),
                 };
                 let start = carried.len();
-                let kept = pipeline.manifolds.get(a, b);
-                if kept.is_some_and(|m| m.carry(&pose(a), b_pose.as_ref(), r_b, max_gap, limit, carried)) {
-                    return Source::Carried(start..carried.len());
+                if let Some(k) = old.index_of(a, b) {
+                    if old.as_slice()[k].carry(&pose(a), b_pose.as_ref(), r_b, max_gap, limit, carried) {
+                        return Source::Carried(start..carried.len(), k);
+                    }
                 }
             }
             let reach = if keep { max_gap + REACH_MARGIN * limit } else { max_gap };
@@ -77,7 +80,7 @@ impl World {
             let keep = limit > 0.0 && is_sampled_pair(shape(i), shape(j));
             let b = Counterpart::Body(j);
             let source = source(i, b, max_gap, keep, &mut carried);
-            if matches!(source, Source::Carried(_)) {
+            if matches!(source, Source::Carried(..)) {
                 carried_pairs.push((i, j));
             }
             items.push(Item { a: i, b, max_gap, source });
@@ -93,15 +96,14 @@ impl World {
         carried_pairs.iter().for_each(|&(i, j)| pipeline.samples.keep(i, j));
         let found = self.found_contacts(&items, pipeline)?;
         let mut out = Vec::with_capacity(found.len() + carried.len());
-        let mut manifolds = Vec::new();
+        let mut old = old.into_parts();
+        let mut manifolds = Vec::with_capacity(items.len());
         let mut next = 0;
         for item in &items {
             match &item.source {
-                Source::Carried(range) => {
+                Source::Carried(range, k) => {
                     out.extend_from_slice(&carried[range.clone()]);
-                    if let Some(m) = pipeline.manifolds.get(item.a, item.b) {
-                        manifolds.push(m.clone());
-                    }
+                    manifolds.extend(old[*k].take());
                 }
                 Source::Found { reach, keep } => {
                     // A pair's contacts are adjacent and carry its bodies (the narrow phase
@@ -132,7 +134,7 @@ impl World {
         let to_find = || {
             items.iter().filter_map(|item| match item.source {
                 Source::Found { reach, .. } => Some((item.a, item.b, reach)),
-                Source::Carried(_) => None,
+                Source::Carried(..) => None,
             })
         };
         let pairs = to_find().filter_map(|(a, b, reach)| body(b).map(|j| (a, j, reach)));
