@@ -41,7 +41,7 @@ impl World {
     /// The largest drift (m) over which the velocity-level stepper carries a pair's contacts
     /// (`VelocityParams::carry_drift`), or 0. A carried point on a curved surface stays where
     /// it was on the body while the true contact rolls on: its lever errs by up to the drift,
-    /// a rolling torque within the patch's own (`patch_radius`, ten times the default drift)
+    /// a rolling torque within the patch's own (`patch_radius`, seven times the default drift)
     /// but one that contact points turning freely must not have: a cylinder lying across
     /// another, spun about their contact, lost 2 % of its spin in 1 s as the lower one rolled
     /// on its carried floor line. So without patches nothing is carried.
