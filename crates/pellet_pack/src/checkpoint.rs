@@ -107,12 +107,12 @@ mod v3 {
 
     #[derive(Deserialize)]
     pub(super) struct Checkpoint {
-        version: u32,
-        world: WorldState,
-        warm: Vec<WarmForce>,
-        feeder: FeederState,
-        run: RunState,
-        impulses: Vec<WarmImpulse>,
+        pub(super) version: u32,
+        pub(super) world: WorldState,
+        pub(super) warm: Vec<WarmForce>,
+        pub(super) feeder: FeederState,
+        pub(super) run: RunState,
+        pub(super) impulses: Vec<WarmImpulse>,
     }
 
     impl Checkpoint {
@@ -131,8 +131,8 @@ mod v3 {
     }
 }
 
-/// The layout of version 2, read into the current one: its warm impulses carry no patch
-/// torques, and start from none.
+/// The layout of version 2, read as version 3 and then into the current one: its warm
+/// impulses carry no patch torques, and start from none.
 mod v2 {
     use super::*;
     use pellet_sim::ContactKey;
@@ -169,15 +169,15 @@ mod v2 {
                     approach: w.approach,
                 })
                 .collect();
-            super::Checkpoint {
-                version: CHECKPOINT_VERSION,
+            super::v3::Checkpoint {
+                version: 3,
                 world: self.world,
                 warm: self.warm,
                 feeder: self.feeder,
                 run: self.run,
                 impulses,
-                manifolds: Vec::new(),
             }
+            .upgrade()
         }
     }
 }

@@ -157,44 +157,53 @@ fn another_checkpoint_version_is_refused() {
     assert!(e.contains("checkpoint version") && e.contains("without --resume"), "{e}");
 }
 
+/// An older checkpoint layout: the current fields up to the warm impulses, in their own form.
+#[derive(serde::Serialize)]
+struct OldLayout<'a, I> {
+    version: u32,
+    world: &'a pellet_sim::WorldState,
+    warm: &'a [pellet_sim::WarmForce],
+    feeder: &'a pellet_pack::FeederState,
+    run: &'a pellet_pack::RunState,
+    impulses: I,
+}
+
+impl<'a, I: serde::Serialize> OldLayout<'a, I> {
+    fn of(version: u32, now: &'a Checkpoint, impulses: I) -> Self {
+        Self { version, world: &now.world, warm: &now.warm, feeder: &now.feeder, run: &now.run, impulses }
+    }
+
+    fn read(&self) -> Checkpoint {
+        Checkpoint::decode(&pellet_io::encode_message(self).unwrap(), "x.mcap").unwrap()
+    }
+}
+
+/// The last checkpoint of a 6-cylinder bed poured for 0.6 s with the velocity-level stepper.
+fn velocity_checkpoint() -> Checkpoint {
+    let mut whole = Recorder::default();
+    run_pack(&config_with(0.6, Stepper::Velocity), &cylinder(), &mut whole).unwrap();
+    Checkpoint::decode(&whole.checkpoints.last().unwrap().1, "x.mcap").unwrap()
+}
+
 /// A checkpoint of layout 2, whose warm impulses had no patch torques, is read with every
 /// torque zero and everything else as written.
 #[test]
 fn a_layout_2_checkpoint_is_read_with_no_torques() {
-    use serde::Serialize;
-    #[derive(Serialize)]
+    #[derive(serde::Serialize)]
     struct Impulse {
         key: pellet_sim::ContactKey,
         normal: f64,
         friction: pellet_sim::Vec3,
         approach: f64,
     }
-    #[derive(Serialize)]
-    struct Layout2<'a> {
-        version: u32,
-        world: &'a pellet_sim::WorldState,
-        warm: &'a [pellet_sim::WarmForce],
-        feeder: &'a pellet_pack::FeederState,
-        run: &'a pellet_pack::RunState,
-        impulses: Vec<Impulse>,
-    }
-    let mut whole = Recorder::default();
-    run_pack(&config_with(0.6, Stepper::Velocity), &cylinder(), &mut whole).unwrap();
-    let now = Checkpoint::decode(&whole.checkpoints.last().unwrap().1, "x.mcap").unwrap();
+    let now = velocity_checkpoint();
     assert!(now.impulses.iter().any(|w| w.torque != pellet_sim::Vec3::zeros()), "no patch torque to drop");
-    let old = Layout2 {
-        version: 2,
-        world: &now.world,
-        warm: &now.warm,
-        feeder: &now.feeder,
-        run: &now.run,
-        impulses: now
-            .impulses
-            .iter()
-            .map(|w| Impulse { key: w.key, normal: w.normal, friction: w.friction, approach: w.approach })
-            .collect(),
-    };
-    let read = Checkpoint::decode(&pellet_io::encode_message(&old).unwrap(), "x.mcap").unwrap();
+    let impulses: Vec<Impulse> = now
+        .impulses
+        .iter()
+        .map(|w| Impulse { key: w.key, normal: w.normal, friction: w.friction, approach: w.approach })
+        .collect();
+    let read = OldLayout::of(2, &now, impulses).read();
     let mut want = now.clone();
     for w in &mut want.impulses {
         w.torque = pellet_sim::Vec3::zeros();
@@ -208,29 +217,9 @@ fn a_layout_2_checkpoint_is_read_with_no_torques() {
 /// on.
 #[test]
 fn a_layout_3_checkpoint_is_read_without_manifolds() {
-    use serde::Serialize;
-    #[derive(Serialize)]
-    struct Layout3<'a> {
-        version: u32,
-        world: &'a pellet_sim::WorldState,
-        warm: &'a [pellet_sim::WarmForce],
-        feeder: &'a pellet_pack::FeederState,
-        run: &'a pellet_pack::RunState,
-        impulses: &'a [pellet_sim::WarmImpulse],
-    }
-    let mut whole = Recorder::default();
-    run_pack(&config_with(0.6, Stepper::Velocity), &cylinder(), &mut whole).unwrap();
-    let now = Checkpoint::decode(&whole.checkpoints.last().unwrap().1, "x.mcap").unwrap();
+    let now = velocity_checkpoint();
     assert!(!now.manifolds.is_empty(), "a cylinder bed in contact keeps manifolds");
-    let old = Layout3 {
-        version: 3,
-        world: &now.world,
-        warm: &now.warm,
-        feeder: &now.feeder,
-        run: &now.run,
-        impulses: &now.impulses,
-    };
-    let read = Checkpoint::decode(&pellet_io::encode_message(&old).unwrap(), "x.mcap").unwrap();
+    let read = OldLayout::of(3, &now, &now.impulses).read();
     let mut want = now.clone();
     want.manifolds.clear();
     assert_eq!(read, want);
