@@ -3,8 +3,9 @@
 //! wall), with the poses it found them at and the gap limit it looked to. While the pair has
 //! moved by no more than a drift δ relative to each other since, and the gap limit asked now
 //! plus 2δ stays within the one looked to, the same contacts carried to the current poses
-//! (`carried`) stand for the narrow phase's answer: no point the narrow phase left out can have
-//! come within the limit, and no carried gap errs by more than 2δ.
+//! (`carried`) stand for the narrow phase's answer: no point that lay beyond the reach can have
+//! come within the limit (the points a patch's reduction dropped are its kept points' to stand
+//! for, as in a fresh answer), and no carried gap errs by more than 2δ.
 
 use super::carried::{carried, relative_drift, Pose};
 use super::contact::{Contact, Counterpart};
