@@ -5,7 +5,7 @@
 use super::rows::{BodyMass, Row};
 use crate::body::Body;
 use crate::geometry::contact::Contact;
-use crate::math::{Quat, Real, Vec3};
+use crate::math::{turn_angle, Quat, Real, Vec3};
 
 /// Relaxation factor of one projection.
 const BETA: Real = 0.8;
@@ -149,14 +149,6 @@ pub fn project_positions(
     }
     st.max_penetration_after = cache.max_penetration(bodies, &moves);
     st
-}
-
-/// The angle of the rotation from `then` to `now`, rad, as 2 atan2(|v|, |w|) of the relative
-/// quaternion: `UnitQuaternion::angle`'s 2 acos|w| calls a turn of 1e-8 rad (a bed at rest, one
-/// substep) zero, because |w| = 1 − θ²/8 rounds to 1.
-fn turn_angle(now: &Quat, then: &Quat) -> Real {
-    let q = (now * then.inverse()).into_inner();
-    2.0 * q.imag().norm().atan2(q.w.abs())
 }
 
 /// Contacts at the current poses, each evaluated again only when one of its bodies has moved

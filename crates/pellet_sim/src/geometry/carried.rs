@@ -8,7 +8,7 @@
 
 use super::contact::{Contact, Counterpart, GapKinematics, NormalOwner};
 use crate::body::Body;
-use crate::math::{Quat, Real, Vec3};
+use crate::math::{turn_angle, Quat, Real, Vec3};
 use serde::{Deserialize, Serialize};
 
 /// Where a body is: its centre (m) and orientation (body → world).
@@ -27,11 +27,21 @@ impl Pose {
     }
 }
 
+/// How far a pair has moved relative to each other between its poses then and now (m):
+/// [`relative_drift`] of B against A with B's bounding radius `r`, or, for a pellet A at a wall
+/// (`b` = `None`), of A against the world with A's.
+pub(crate) fn pair_drift(a: (&Pose, &Pose), b: Option<(&Pose, &Pose)>, r: Real) -> Real {
+    match b {
+        Some((b_then, b_now)) => relative_drift(b_then, b_now, Some(a), r),
+        None => relative_drift(a.0, a.1, None, r),
+    }
+}
+
 /// How far any point of a body of bounding radius `r_b` has moved, relative to a second
 /// body, between two pairs of poses `(a_then, b_then)` and `(a_now, b_now)` (m): the change of
 /// its centre in the second body's frame plus its turn there times `r_b`. With `a` = `None`
 /// the second body is the world (a wall).
-pub(crate) fn relative_drift(b_then: &Pose, b_now: &Pose, a: Option<(&Pose, &Pose)>, r_b: Real) -> Real {
+fn relative_drift(b_then: &Pose, b_now: &Pose, a: Option<(&Pose, &Pose)>, r_b: Real) -> Real {
     let (t_then, q_then, t_now, q_now) = match a {
         Some((a_then, a_now)) => {
             let (inv_then, inv_now) = (a_then.orientation.inverse(), a_now.orientation.inverse());
@@ -44,12 +54,7 @@ pub(crate) fn relative_drift(b_then: &Pose, b_now: &Pose, a: Option<(&Pose, &Pos
         }
         None => (b_then.position, b_then.orientation, b_now.position, b_now.orientation),
     };
-    (t_now - t_then).norm() + r_b * turn(&q_now, &q_then)
-}
-
-fn turn(now: &Quat, then: &Quat) -> Real {
-    let q = (now * then.inverse()).into_inner();
-    2.0 * q.imag().norm().atan2(q.w.abs())
+    (t_now - t_then).norm() + r_b * turn_angle(&q_now, &q_then)
 }
 
 /// Whether `c` can be carried: its gap is not a closed form in a sphere's centre (those are

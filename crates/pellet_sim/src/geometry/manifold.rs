@@ -7,7 +7,7 @@
 //! come within the limit (the points a patch's reduction dropped are its kept points' to stand
 //! for, as in a fresh answer), and no carried gap errs by more than 2δ.
 
-use super::carried::{carried, relative_drift, Pose};
+use super::carried::{carried, pair_drift, Pose};
 use super::contact::{Contact, Counterpart};
 use crate::math::Real;
 use serde::{Deserialize, Serialize};
@@ -61,15 +61,14 @@ impl Manifold {
         drift_limit: Real,
         out: &mut Vec<Contact>,
     ) -> bool {
-        let drift = match (&self.b_pose, b_now) {
-            (Some(b_then), Some(b_now)) => relative_drift(b_then, b_now, Some((&self.a_pose, a_now)), r_b),
-            (None, None) => relative_drift(&self.a_pose, a_now, None, r_b),
-            _ => return false,
-        };
-        if drift > drift_limit || max_gap + 2.0 * drift > self.reach {
+        if self.b_pose.is_some() != b_now.is_some() {
             return false;
         }
         let b = self.b_pose.as_ref().zip(b_now);
+        let drift = pair_drift((&self.a_pose, a_now), b, r_b);
+        if drift > drift_limit || max_gap + 2.0 * drift > self.reach {
+            return false;
+        }
         let start = out.len();
         for c in &self.contacts {
             match carried(c, &self.a_pose, a_now, b) {

@@ -7,7 +7,7 @@ use crate::body::Body;
 use crate::container::Container;
 use crate::dynamics::stabilize::{project_positions, GapBounds, ProjectionStats};
 use crate::error::SimError;
-use crate::geometry::carried::{carriable, carried, relative_drift, Pose};
+use crate::geometry::carried::{carriable, carried, pair_drift, Pose};
 use crate::geometry::contact::Contact;
 use crate::geometry::contact_sampled::gap_jump;
 use crate::geometry::narrow_phase::{collide_feature, Pellet};
@@ -69,7 +69,10 @@ impl World {
         let (types, geometry, container) = (&self.types, &self.geometry, &self.container);
         let lean = self.params.stepper == Stepper::Velocity;
         // A negative limit carries nothing.
-        let carry = if lean && self.carry_limit() > 0.0 { self.carry_limit() } else { -1.0 };
+        let carry = match self.carry_limit() {
+            limit if lean && limit > 0.0 => limit,
+            _ => -1.0,
+        };
         let eval = |bodies: &[Body], c: &Contact| {
             carry_or_reevaluate(generated_at, bodies, c, carry)
                 .unwrap_or_else(|| reevaluate(types, geometry, container, bodies, c, lean))
@@ -119,16 +122,12 @@ fn carry_or_reevaluate(generated_at: &[Body], bodies: &[Body], c: &Contact, limi
     let pose = |set: &[Body], k: usize| Pose::of(&set[k]);
     let (a_then, a_now) = (pose(generated_at, c.a), pose(bodies, c.a));
     let b = c.b_body().map(|b| (pose(generated_at, b), pose(bodies, b)));
-    let drift = match &b {
-        Some((b_then, b_now)) => {
-            relative_drift(b_then, b_now, Some((&a_then, &a_now)), bodies[c.b_body()?].bounding_radius)
-        }
-        None => relative_drift(&a_then, &a_now, None, bodies[c.a].bounding_radius),
-    };
-    if drift > limit {
+    let b = b.as_ref().map(|(then, now)| (then, now));
+    let r = bodies[c.b_body().unwrap_or(c.a)].bounding_radius;
+    if pair_drift((&a_then, &a_now), b, r) > limit {
         return None;
     }
-    carried(c, &a_then, &a_now, b.as_ref().map(|(t, n)| (t, n))).map(Some)
+    carried(c, &a_then, &a_now, b).map(Some)
 }
 
 /// Re-evaluates one contact's feature at the given poses (the narrow phase for that feature).

@@ -50,7 +50,6 @@ impl World {
         let delta_c = self.params.contact_distance_factor * self.reference_size();
         let g = self.params.gravity.norm();
         let limit = self.carry_limit();
-        let sphere = |k: usize| matches!(self.types[self.bodies[k].type_id.0 as usize].shape, ShapeDesc::Sphere { .. });
         let shape = |k: usize| &self.types[self.bodies[k].type_id.0 as usize].shape;
         let pose = |k: usize| Pose::of(&self.bodies[k]);
         pipeline.samples.next_round();
@@ -87,7 +86,7 @@ impl World {
         }
         for &(k, wall, s) in &near.walls {
             let max_gap = delta_c + s * h + g * h * h;
-            let keep = limit > 0.0 && !sphere(k);
+            let keep = limit > 0.0 && !matches!(shape(k), ShapeDesc::Sphere { .. });
             let b = Counterpart::Wall(wall);
             items.push(Item { a: k, b, max_gap, source: source(k, b, max_gap, keep, &mut carried) });
         }
