@@ -1,9 +1,9 @@
-//! Diagnostic, not a check: restarts the engine from one frame of a `pack` trajectory, every
-//! pellet at rest, and prints per step what the resting phase did and how far the bed moves.
-//! A bed that a perfect solver would hold still (it was nearly at rest in the trajectory) shows
-//! whether the solver's answers make it creep. Run:
+//! A probe of the engine: restarts it from one frame of a `pack` trajectory, every pellet at
+//! rest, and prints per step what the resting phase did and how far the bed moves. A bed that a
+//! perfect solver would hold still (it was nearly at rest in the trajectory) shows whether the
+//! solver's answers make it creep. Run:
 //!
-//! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo test --release -p pellet_pack --test diag_restart -- --ignored --nocapture`
+//! `TRAJ=bed.mcap AT=6.0 SECS=0.5 cargo run --release -p pellet_pack --example restart_probe`
 //!
 //! `TRAJ` is the trajectory, `AT` the frame time (s, nearest frame), `SECS` the simulated time to
 //! run, `STEP` the engine call's step (s, default 1/40); the stepper is the trajectory's, or `VELOCITY` / `ACCELERATION` chooses one; `EPS_P`, `COR`, `FRICTION`, `EXACT_FALLBACK`, `APGD_IT`, `PGS_IT`, `TOL` (solver tolerance / g), `MAX_SWEEPS`, `VTOL` (the velocity solve's tolerance / εp), `PATCH` (the point contacts' patch radius / d) change one
@@ -12,6 +12,7 @@
 //! from the trajectory's last checkpoint (velocities and warm starts included) instead. The tube and
 //! pellet are the trajectory's; materials and engine parameters are pack's defaults.
 
+#[path = "../tests/common/mod.rs"]
 mod common;
 
 use pellet_io::read_trajectory;
@@ -21,12 +22,10 @@ fn env_f64(name: &str, default: f64) -> f64 {
     std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
 }
 
-#[test]
-#[ignore = "diagnostic: needs TRAJ=<pack trajectory>"]
-fn restart_from_a_frame() {
+fn main() {
     let Ok(path) = std::env::var("TRAJ") else {
-        println!("set TRAJ to a pack trajectory");
-        return;
+        eprintln!("restart_probe: set TRAJ to a pack trajectory (and AT, SECS; see the file's header)");
+        std::process::exit(2);
     };
     let bytes = std::fs::read(&path).expect("trajectory readable");
     let traj = read_trajectory(&bytes, &path).expect("a pack trajectory");
