@@ -86,9 +86,19 @@ $(OUT)/ring.pellet: | $(OUT)
 	$(BIN)/mkpellet ring --outer-diameter 10 --inner-diameter 6 --height 10 -o $@
 
 # The case file is rewritten only when its text changes, so editing one row
-# of the table re-runs only that row's beds.
-$(CASES)/%.toml: $(TABLE) $(HERE)/case.awk | $(CASES)
-	awk -F, -v id=$* -f $(HERE)/case.awk $(TABLE) > $@.tmp
+# of the table re-runs only that row's beds. STEPPER=acceleration packs the
+# beds with the paper's force-level formulation (pack's default stepper
+# otherwise); $(OUT)/stepper records the choice, so changing it rewrites the
+# case files. A bed with a record is not run again, so give such a study its
+# own DOCS (and ARCHIVE).
+STEPPER ?=
+$(OUT)/stepper: FORCE | $(OUT)
+	echo '$(STEPPER)' > $@.tmp
+	if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
+.PHONY: FORCE
+FORCE:
+$(CASES)/%.toml: $(TABLE) $(HERE)/case.awk $(OUT)/stepper | $(CASES)
+	{ awk -F, -v id=$* -f $(HERE)/case.awk $(TABLE) && $(if $(STEPPER),echo 'stepper = "$(STEPPER)"',true); } > $@.tmp
 	if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
 
 # pack exits 1 when --max-time is reached before the bed settles; the

@@ -8,7 +8,7 @@
 #
 # A validation tube's bed is the paper's case, bit for bit (pipelines/paper/case.awk
 # on $(TABLE): pellet, tube, fill height, scheme, time limit, seed), with
-# `stepper = "velocity"` added; its force-level reference is the paper's
+# `stepper = "velocity"` added; its force-level reference is the force-level study's
 # records of the same tube in $(REFERENCE). The 690-sphere bed comes from this
 # study's own table $(STUDY_TABLE), which also holds its force-level reference
 # (a mean over 20 seeds, no profile) for as long as $(REFERENCE) has no records of it.
@@ -31,7 +31,7 @@ BIN ?= target/release
 OUT ?= out/stepper-study
 DOCS ?= docs/validation
 ARCHIVE ?= $(DOCS)/stepper-study
-REFERENCE ?= $(DOCS)/runs
+REFERENCE ?= $(DOCS)/acceleration/runs
 REPORT ?= $(DOCS)/stepper-study.md
 NICE ?= nice
 PYTHON ?= python3

@@ -76,7 +76,7 @@ fn keys(v: &Value) -> Vec<String> {
 }
 
 #[test]
-fn issue_8_paper_pipeline_and_report_on_small_beds() {
+fn paper_pipeline_and_report_on_small_beds() {
     let s = Scenario::new();
     std::fs::write(s.file("beds.csv"), TABLE).unwrap();
     let out = make(&s, &["validation", "cor", "report"]);
@@ -336,4 +336,26 @@ fn a_parked_paper_bed_is_finished_by_the_next_make_elsewhere() {
     assert!(resumed.frames == after, "the finished bed's frames differ from an uninterrupted run's");
     assert!(resumed.energy == straight.energy, "the finished bed's energy records differ");
     assert!(resumed.run["build"].starts_with(&straight.run["build"]), "{}", resumed.run["build"]);
+}
+
+/// `STEPPER=acceleration` writes the stepper into every bed's case file, so the beds are the
+/// paper's force-level formulation's; without it the case files name none (pack's default).
+#[test]
+fn the_paper_study_runs_with_the_stepper_it_is_given() {
+    let s = one_row_table("val-sphere-D25,validation,sphere,25,1,20,0,12,one-column,,,,,6,small tube");
+    let case = "out/cases/val-sphere-D25-s1.toml";
+    let out = make(&s, &[case, "out/sphere.pellet"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let default = std::fs::read_to_string(s.file(case)).unwrap();
+    assert!(!default.contains("stepper"), "{default}");
+    let out = make(&s, &[case, "STEPPER=acceleration"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let chosen = std::fs::read_to_string(s.file(case)).unwrap();
+    assert!(chosen.starts_with(&default) && chosen.ends_with("stepper = \"acceleration\"\n"), "{chosen}");
+    // pack reads it: the run's recorded configuration names the stepper.
+    let run = s.file("bed.mcap");
+    s.run("pack", &["--case", case, "-o", run.to_str().unwrap(), "--quiet", "--max-time", "0.05"]);
+    let traj = pellet_io::read_trajectory(&std::fs::read(&run).unwrap(), "bed.mcap").unwrap();
+    let config: Value = serde_json::from_str(traj.run.get("config").expect("the run's configuration")).unwrap();
+    assert_eq!(config["stepper"], "acceleration", "{config}");
 }

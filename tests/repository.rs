@@ -25,13 +25,15 @@ fn text_files(dir: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// Whether `line` holds "issue" or "issues" followed by a number.
+/// Whether `line` holds "issue" or "issues" followed by a number (after a space, `_` or `#`,
+/// as in a test's name).
 fn cites_an_issue(line: &str) -> bool {
     let lower = line.to_lowercase();
     let word = concat!("iss", "ue");
     lower.match_indices(word).any(|(at, _)| {
         let rest = lower[at + word.len()..].trim_start_matches('s');
-        rest.strip_prefix(' ').is_some_and(|r| r.starts_with(|c: char| c.is_ascii_digit()))
+        let rest = rest.strip_prefix([' ', '_']).unwrap_or(rest);
+        rest.trim_start_matches('#').starts_with(|c: char| c.is_ascii_digit())
     })
 }
 
@@ -62,5 +64,7 @@ fn no_development_diary_in_the_tree() {
 fn issue_citations_are_recognised() {
     assert!(cites_an_issue(concat!("see iss", "ue 8")));
     assert!(cites_an_issue(concat!("(iss", "ues 3 and 4)")));
+    assert!(cites_an_issue(concat!("fn iss", "ue_8_the_pipeline()")));
+    assert!(cites_an_issue(concat!("iss", "ue #12")));
     assert!(!cites_an_issue("an issue of the mesh"));
 }

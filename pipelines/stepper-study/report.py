@@ -2,7 +2,7 @@
 """The stepper study's report: velocity-level beds against force-level ones.
 
     report.py --table pipelines/paper/beds.csv --study-table pipelines/stepper-study/beds.csv \
-        --velocity docs/validation/stepper-study --reference docs/validation/runs \
+        --velocity docs/validation/stepper-study --reference docs/validation/acceleration/runs \
         -o docs/validation/stepper-study.md CONFIG...
 
 For every CONFIG (a row of either table) it reads the records <CONFIG>-s<seed>.* in
