@@ -217,10 +217,9 @@ pub struct VelocityParams {
     pub relative_tolerance: Real,
     /// Largest number of Gauss–Seidel sweeps per step.
     pub max_sweeps: usize,
-    /// Radius of the patch each contact point between pellets (or a pellet and a wall, not two
-    /// spheres or a sphere and a wall) stands for, factor of the nominal pellet size
-    /// (`World::nominal_size`): it bounds the contact's spin torque at (3π/16) μ a λ_n and its
-    /// rolling torque at a λ_n. 0: contact points turn freely.
+    /// Radius of the patch each contact point stands for, factor of the nominal pellet size
+    /// (`World::nominal_size`): it bounds the contact's spin torque at (3π/16) μ a λ_n and,
+    /// except between two spheres, its rolling torque at a λ_n. 0: contact points turn freely.
     pub patch_radius: Real,
     /// Largest relative motion of a pair (or of a pellet against a wall) since its contacts
     /// were found over which position projection carries them with the bodies instead of

@@ -111,9 +111,9 @@ pub struct Args {
     #[arg(long, value_enum)]
     stepper: Option<StepperArg>,
     /// Under the velocity-level stepper, the radius of the patch each contact point stands for,
-    /// in pellet diameters (not used between spheres): the spin of the contact is bounded by
-    /// the patch's Coulomb torque (3π/16) μ a N and its rolling by a N, so that a pellet held at
-    /// one or two points comes to rest; 0 lets contact points turn freely [default: 0.001;
+    /// in pellet diameters: the spin of the contact is bounded by the patch's Coulomb torque
+    /// (3π/16) μ a N and its rolling (except between two spheres) by a N, so that a pellet held
+    /// at one or two points comes to rest; 0 lets contact points turn freely [default: 0.001;
     /// --resume without it continues a run with its own].
     #[arg(long, value_name = "DP")]
     contact_patch: Option<f64>,

@@ -32,6 +32,8 @@ pub struct NormalTarget {
     pub mu: Real,
     /// Radius of the patch the contact point stands for, m (0: a point that turns freely).
     pub patch: Real,
+    /// The patch resists rolling as well as spin (between two spheres it resists spin only).
+    pub rolls: bool,
 }
 
 /// Where a solve starts from: a contact's impulses of the last step (N·s).
@@ -398,7 +400,7 @@ mod tests {
         let c = floor(0, 5e-3);
         let sol = solve_impulses(
             &[c],
-            &[NormalTarget { min_speed: 0.0, mu: 0.3, patch: 0.0 }],
+            &[NormalTarget { min_speed: 0.0, mu: 0.3, patch: 0.0, rolls: true }],
             &[WarmStart::default()],
             &mut st,
             1e-12,
@@ -417,7 +419,7 @@ mod tests {
         let b = sphere(5e-3, Vec3::new(0.0, 0.0, -1.0));
         let g = Vec3::zeros();
         let c = floor(0, 5e-3);
-        let t = [NormalTarget { min_speed: 0.5, mu: 0.0, patch: 0.0 }];
+        let t = [NormalTarget { min_speed: 0.5, mu: 0.0, patch: 0.0, rolls: true }];
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, 1e-3);
         let sol = solve_impulses(std::slice::from_ref(&c), &t, &[WarmStart::default()], &mut st, 1e-12, 50);
         assert!((st.v[0].z - 0.5).abs() < 1e-12);
@@ -437,7 +439,7 @@ mod tests {
         let (h, a, mu) = (1e-3, 1e-5, 0.3);
         let g = Vec3::new(0.0, 0.0, -9.81);
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
-        let t = [NormalTarget { min_speed: 0.0, mu, patch: a }];
+        let t = [NormalTarget { min_speed: 0.0, mu, patch: a, rolls: true }];
         let sol = solve_impulses(&[floor(0, 5e-3)], &t, &[WarmStart::default()], &mut st, 1e-12, 50);
         let want = 50.0 - patch::SPIN_FACTOR * mu * a * 1e-3 * 9.81 * h / 1e-8;
         assert!((st.w[0].z - want).abs() < 1e-12, "{} against {want}", st.w[0].z);
@@ -455,7 +457,7 @@ mod tests {
         let (h, a) = (1e-3, 1e-5);
         let g = Vec3::new(0.0, 0.0, -9.81);
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
-        let t = [NormalTarget { min_speed: 0.0, mu: 0.5, patch: a }];
+        let t = [NormalTarget { min_speed: 0.0, mu: 0.5, patch: a, rolls: true }];
         let sol = solve_impulses(&[floor(0, r)], &t, &[WarmStart::default()], &mut st, 1e-14, 200);
         let want = w0 - a * 1e-3 * 9.81 * h / (1e-8 + 1e-3 * r * r);
         assert!(sol.converged);

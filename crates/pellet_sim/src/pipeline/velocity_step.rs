@@ -36,22 +36,20 @@ impl World {
         matches!(self.types[self.bodies[k].type_id.0 as usize].shape, ShapeDesc::Sphere { .. })
     }
 
-    /// The radius of the patch each contact point stands for (m): `VelocityParams::patch_radius`
-    /// of the pellet size, except between two spheres. A sphere rolling in the groove between
-    /// two spheres meets a third within a diameter; one rolling along the wall, in the groove
-    /// between a sphere or the floor and the wall, goes round the tube for ever
-    /// (`docs/engine.md`, "Contact points as small patches").
-    fn patch_radii(&self, contacts: &[Contact]) -> Vec<Real> {
+    /// The patch each contact point stands for: its radius (m), `VelocityParams::patch_radius`
+    /// of the pellet size, and whether it resists rolling as well as spin. Between two spheres
+    /// it resists spin only: a sphere rolling in the groove between two spheres meets a third
+    /// within a diameter, but one held between two nearly opposite points spins about the line
+    /// through them with nothing to stop it. One rolling along the wall, in the groove between
+    /// a sphere or the floor and the wall, goes round the tube for ever (`docs/engine.md`,
+    /// "Contact points as small patches").
+    fn patches(&self, contacts: &[Contact]) -> Vec<(Real, bool)> {
         let a = self.params.velocity.patch_radius * self.nominal_size();
         contacts
             .iter()
             .map(|c| {
                 let spheres = self.round(c.a) && c.b_body().is_some_and(|b| self.round(b));
-                if spheres {
-                    0.0
-                } else {
-                    a
-                }
+                (a, !spheres)
             })
             .collect()
     }
@@ -183,12 +181,12 @@ impl World {
             let omega0: Vec<Vec3> = self.bodies.iter().map(Body::angular_velocity).collect();
             let u0: Vec<Vec3> = contacts.iter().map(|c| relative_velocity_from(c, &vel0, &omega0)).collect();
             let memory = remembered(&pipeline.impulses, &contacts);
-            let patches = self.patch_radii(&contacts);
+            let patches = self.patches(&contacts);
             let (mut colliding, mut resting) = (0u64, 0u64);
             let mut targets = Vec::with_capacity(contacts.len());
             let mut warm = Vec::with_capacity(contacts.len());
             let mut colliding_now = Vec::with_capacity(contacts.len());
-            for (((c, u), m), &patch) in contacts.iter().zip(&u0).zip(&memory).zip(&patches) {
+            for (((c, u), m), &(patch, rolls)) in contacts.iter().zip(&u0).zip(&memory).zip(&patches) {
                 let (cor, mu) = match c.b {
                     Counterpart::Body(_) => (self.material.cor, self.material.friction),
                     Counterpart::Wall(_) => (self.wall_material.cor, self.wall_material.friction),
@@ -216,7 +214,7 @@ impl World {
                     (-c.gap.max(0.0) / h, start)
                 };
                 colliding_now.push(collide);
-                targets.push(NormalTarget { min_speed, mu, patch });
+                targets.push(NormalTarget { min_speed, mu, patch, rolls });
                 warm.push(w);
             }
             let mut st = VelocityState::free(&self.bodies, &g, h);
@@ -270,7 +268,7 @@ impl World {
                 let mean = 0.5 * (u0[k] + sol.relative_after[k]);
                 normal_work += sol.normal[k] * c.normal.dot(&mean);
                 friction_work += sol.friction[k].dot(&mean);
-                if patches[k] > 0.0 {
+                if patches[k].0 > 0.0 {
                     let turn = |w: &[Vec3]| w[c.a] - c.b_body().map_or(Vec3::zeros(), |b| w[b]);
                     friction_work += sol.torque[k].dot(&(0.5 * (turn(&omega0) + turn(&st.w))));
                 }

@@ -56,7 +56,7 @@ impl PatchBlock {
             kr_inv: [[k22 / det, -k12 / det], [-k12 / det, k11 / det]],
             kr_trace: k11 + k22,
             spin: SPIN_FACTOR * target.mu * target.patch,
-            roll: target.patch,
+            roll: if target.rolls { target.patch } else { 0.0 },
             reach,
         })
     }
@@ -105,6 +105,9 @@ impl PatchBlock {
             self.apply(blk, st, 0, ds);
             l[0] = s;
             dv = ds.abs() * self.k_ss * self.reach;
+        }
+        if self.roll == 0.0 {
+            return dv;
         }
         let (w1, w2) = (self.turn(blk, st, 1), self.turn(blk, st, 2));
         let old = [l[1], l[2]];
