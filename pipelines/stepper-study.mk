@@ -36,9 +36,9 @@ REPORT ?= $(DOCS)/stepper-study.md
 NICE ?= nice
 PYTHON ?= python3
 
-# The paper's validation tubes of Table 3 at N = D/dp: spheres 4.1, 6.1, 7.99;
+# The paper's validation tubes of Table 3 at N = D/dp: spheres 3.1, 4.1, 6.1, 7.99;
 # cylinders 3.55, 6.98, 9.16; rings 4.05, 6.02.
-STUDY_TUBES := val-sphere-D41 val-sphere-D61 val-sphere-D79.9 \
+STUDY_TUBES := val-sphere-D31 val-sphere-D41 val-sphere-D61 val-sphere-D79.9 \
   val-cylinder-D35.49 val-cylinder-D69.83 val-cylinder-D91.58 \
   val-ring-D40.45 val-ring-D60.18
 TUBES ?= $(STUDY_TUBES)

@@ -64,10 +64,11 @@ fn stepper_study_dry_run_packs_the_chosen_beds_with_the_velocity_stepper() {
     assert!(plan.contains("pipelines/stepper-study/case.awk"), "{plan}");
     assert!(plan.contains("docs/stepper-study/sph690-batch-s1.summary.json"), "{plan}");
 
-    // The default: the eight validation tubes × 6 seeds and 20 seeds of the 690-sphere bed.
+    // The default: the nine validation tubes × 6 seeds and 20 seeds of the 690-sphere bed.
     let all = packed(&dry_run(&s, &[]));
-    assert_eq!(all.len(), 8 * 6 + 20, "{all:?}");
-    assert!(all.iter().all(|id| !id.starts_with("val-sphere-D31")));
+    assert_eq!(all.len(), 9 * 6 + 20, "{all:?}");
+    assert!(all.iter().any(|id| id.starts_with("val-sphere-D31")));
+    assert!(all.iter().all(|id| !id.starts_with("val-sphere-D39.6")));
     // SPHERE690_SEEDS empty: none of that bed.
     assert!(packed(&dry_run(&s, &["SEEDS=1", "SPHERE690_SEEDS="])).iter().all(|id| !id.starts_with("sph690")));
 
