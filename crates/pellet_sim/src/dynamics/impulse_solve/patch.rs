@@ -97,6 +97,10 @@ impl PatchBlock {
         ln: Real,
         negligible: Real,
     ) -> Real {
+        if ln == 0.0 && *l == [0.0; 3] {
+            // Bounds of zero on impulses of zero: nothing to change (an open speculative contact).
+            return 0.0;
+        }
         let mut dv: Real = 0.0;
         let spin = self.spin * ln;
         let s = (l[0] - self.turn(blk, st, 0) * self.inv_kss).clamp(-spin, spin);
