@@ -14,14 +14,31 @@ const H: f64 = 0.005;
 const MU: f64 = 0.3;
 const SPIN: f64 = 0.5;
 
-/// The upper cylinder's spin (rad/s) after each of `times` (s), and the two cylinders' relative
-/// angular velocity (rad/s) at the end.
-fn crossed(patch_radius: f64, times: &[f64]) -> (Vec<f64>, f64) {
-    let params = EngineParams {
+fn velocity_stepper(patch_radius: f64) -> EngineParams {
+    EngineParams {
         stepper: Stepper::Velocity,
         velocity: VelocityParams { patch_radius, ..VelocityParams::default() },
         ..EngineParams::paper()
-    };
+    }
+}
+
+/// Steps `w` to each of `times` (s) and returns `body`'s spin about the vertical there (rad/s).
+fn spins_at(w: &mut pellet_sim::World, body: pellet_sim::BodyId, times: &[f64]) -> Vec<f64> {
+    let mut p = pellet_sim::Pipeline::new();
+    let mut spins = Vec::new();
+    for &until in times {
+        while w.time() < until - 1e-9 {
+            w.step(1.0 / 200.0, &mut p).unwrap();
+        }
+        spins.push(omega(w, body).z);
+    }
+    spins
+}
+
+/// The upper cylinder's spin (rad/s) after each of `times` (s), and the two cylinders' relative
+/// angular velocity (rad/s) at the end.
+fn crossed(patch_radius: f64, times: &[f64]) -> (Vec<f64>, f64) {
+    let params = velocity_stepper(patch_radius);
     let ty = BodyType::solid_cylinder(R, H).unwrap();
     let (mut w, t) = shape_world(Container::tube(0.05).unwrap(), ty, material(0.5, MU), wall(0.5, MU), params);
     // The lower one lies along x on the floor, the upper along y across its middle: one point.
@@ -29,14 +46,7 @@ fn crossed(patch_radius: f64, times: &[f64]) -> (Vec<f64>, f64) {
     let along_y = Quat::from_axis_angle(&Vec3::x_axis(), FRAC_PI_2);
     add_q(&mut w, t, Vec3::new(0.0, 0.0, R), along_x, Vec3::zeros(), Vec3::zeros());
     let top = add_q(&mut w, t, Vec3::new(0.0, 0.0, 3.0 * R), along_y, Vec3::zeros(), Vec3::new(0.0, 0.0, SPIN));
-    let mut p = pellet_sim::Pipeline::new();
-    let mut spins = Vec::new();
-    for &until in times {
-        while w.time() < until - 1e-9 {
-            w.step(1.0 / 200.0, &mut p).unwrap();
-        }
-        spins.push(omega(&w, top).z);
-    }
+    let spins = spins_at(&mut w, top, times);
     let b = w.bodies();
     (spins, (b[1].angular_velocity() - b[0].angular_velocity()).norm())
 }
@@ -74,22 +84,11 @@ fn a_spin_on_a_free_contact_point_never_ends() {
 /// speed (rad/s) at the end, for two spheres stacked on the tube's axis, the top one spinning
 /// about the vertical: their one contact lies on the spin axis, so friction alone never slows it.
 fn stacked_spheres(patch_radius: f64, times: &[f64]) -> (Vec<f64>, f64) {
-    let params = EngineParams {
-        stepper: Stepper::Velocity,
-        velocity: VelocityParams { patch_radius, ..VelocityParams::default() },
-        ..EngineParams::paper()
-    };
+    let params = velocity_stepper(patch_radius);
     let (mut w, t) = sphere_world(Container::tube(0.05).unwrap(), R, material(0.5, MU), wall(0.5, MU), params);
     let bottom = add(&mut w, t, Vec3::new(0.0, 0.0, R), Vec3::zeros(), Vec3::zeros());
     let top = add(&mut w, t, Vec3::new(0.0, 0.0, 3.0 * R), Vec3::zeros(), Vec3::new(0.0, 0.0, SPIN));
-    let mut p = pellet_sim::Pipeline::new();
-    let mut spins = Vec::new();
-    for &until in times {
-        while w.time() < until - 1e-9 {
-            w.step(1.0 / 200.0, &mut p).unwrap();
-        }
-        spins.push(omega(&w, top).z);
-    }
+    let spins = spins_at(&mut w, top, times);
     (spins, omega(&w, bottom).norm())
 }
 
