@@ -61,7 +61,8 @@ test-openfoam: build
 # _MODE tune it, see crates/pellet_sim/benches/pack_beds.rs), voidprof, and
 # bedexport's stages on a 600-sphere bed, the two steppers side by side (with
 # LIGGGHTS on the 690-sphere bed), and the velocity-level stepper beside rapier on
-# its 256-ring and 620-cylinder beds, and pack on one thread and two
+# its 256-ring and 620-cylinder beds, how it scales to 5000 spheres and 2000
+# cylinders, and pack on one thread and two
 # (pipelines/bench-threads.sh). Each stage's figures are shown and kept in $(BENCH_OUT)/STAGE.txt;
 # at the end pipelines/benchmarks-md.sh writes them, with the machine and the
 # build, to BENCHMARKS.md (replaced whole, only by a run that got to the end).
@@ -82,6 +83,7 @@ bench:
 	$(CARGO) build --release --workspace --bins
 	@$(call bench_stage,steppers,bash pipelines/bench-steppers.sh $(BIN))
 	@$(call bench_stage,peers,STEPPERS=velocity bash pipelines/bench-steppers.sh $(BIN) "ring256 cyl620")
+	@$(call bench_stage,scaling,STEPPERS=velocity bash pipelines/bench-steppers.sh $(BIN) "sph690 sph5000 cyl620 cyl2000")
 	@$(call bench_stage,threads,bash pipelines/bench-threads.sh $(BIN))
 	sh pipelines/benchmarks-md.sh $(BENCH_OUT) BENCHMARKS.md
 

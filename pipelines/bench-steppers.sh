@@ -8,8 +8,13 @@
 #   ring40  40 Raschig rings 10/6 x 10 mm, D = 40 mm, batch, seeds 1-3
 #   ring256 256 Raschig rings 10/6 x 10 mm, D = 60.18 mm, batch (yardstick: rapier-256-rings)
 #   cyl620  620 cylinders 10 x 10 mm, D = 91.58 mm, batch (yardstick: rapier-620; minutes)
+#   sph5000 5000 spheres of 10 mm, D = 154.6 mm, batch (the 690-sphere bed scaled at its
+#           height-to-diameter ratio; minutes)
+#   cyl2000 2000 cylinders 10 x 10 mm, D = 135.3 mm, batch (the 620-cylinder bed scaled so;
+#           several minutes)
 # Prints per run: case, stepper, seed, CPU s (user + system), settle time, porosity, the
-# CPU ratio to the yardstick when there is one, and for the velocity-level stepper the contact
+# CPU per pellet per simulated second (ms: cpu_s / (N · settle_s), how the cost scales with
+# the bed), the CPU ratio to the yardstick when there is one, and for the velocity-level stepper the contact
 # solve over the last 0.1 s of the run: contact points per pair, the share of loaded contacts
 # warm started and the share of steps whose solve converged; then two overlaps in % of dpv:
 # pen_%, the engine's deepest penetration in the bed as written (pack's "% at the end"), and
@@ -51,15 +56,17 @@ print("%.4f %s" % (s["bulk_porosity"], "-" if o is None else "%.3f" % (100 * o))
   pen=$(sed -n 's/.*, \([0-9.]*\) % at the end;.*/\1/p' "$work/pack.log")
   local ratio=-
   [ -n "$yard" ] && ratio=$(awk -v a="$cpu" -v b="$yard" 'BEGIN{printf "%.2f", a / b}')
+  local per=-
+  [ -n "$settled" ] && per=$(awk -v a="$cpu" -v n="$count" -v t="$settled" 'BEGIN{printf "%.2f", 1e3 * a / (n * t)}')
   local solve
   solve=$(sed -n 's/.*: \([0-9.]*\) contact points a pair, \([0-9.]*\) % of loaded.*, \([0-9.]*\) % of.*/\1 \2 \3/p' "$work/pack.log")
   [ -n "$solve" ] || solve="- - -"
   # shellcheck disable=SC2086
-  printf "%-7s %-12s %4s %8s %9s %8s %7s %9s %7s %7s %7s %7s\n" "$label" "$stepper" "$seed" "$cpu" "${settled:-unsettled}" \
-    "$porosity" "$ratio" $solve "${pen:--}" "$olap"
+  printf "%-7s %-12s %4s %8s %9s %8s %8s %7s %9s %7s %7s %7s %7s\n" "$label" "$stepper" "$seed" "$cpu" "${settled:-unsettled}" \
+    "$porosity" "$per" "$ratio" $solve "${pen:--}" "$olap"
 }
 
-printf "%-7s %-12s %4s %8s %9s %8s %7s %9s %7s %7s %7s %7s\n" case stepper seed cpu_s settle_s porosity ratio pts/pair warm_% conv_% pen_% olap_%
+printf "%-7s %-12s %4s %8s %9s %8s %8s %7s %9s %7s %7s %7s %7s\n" case stepper seed cpu_s settle_s porosity ms/N/s ratio pts/pair warm_% conv_% pen_% olap_%
 for c in $CASES; do
   case $c in
     sph690)
@@ -75,6 +82,10 @@ for c in $CASES; do
     cyl620)
       y=$(yardstick rapier-620); [ -n "$y" ] && echo "yardstick rapier-620 cpu_s $y"
       for s in $STEPPERS; do one cyl620 c.pellet 91.58 620 1 $s 0,100 "$y"; done ;;
-    *) echo "bench-steppers: unknown case $c (sph690, cyl40, ring40, ring256, cyl620)" >&2; exit 2 ;;
+    sph5000)
+      for s in $STEPPERS; do one sph5000 s.pellet 154.6 5000 1 $s 0,200 ""; done ;;
+    cyl2000)
+      for s in $STEPPERS; do one cyl2000 c.pellet 135.3 2000 1 $s 0,150 ""; done ;;
+    *) echo "bench-steppers: unknown case $c (sph690, cyl40, ring40, ring256, cyl620, sph5000, cyl2000)" >&2; exit 2 ;;
   esac
 done

@@ -1,7 +1,7 @@
 #!/bin/sh
 # benchmarks-md.sh DIR [FILE]: writes FILE (default BENCHMARKS.md) at the end of `make bench`
 # from the figures it kept in DIR: pack_beds.txt (the engine's pours), voidprof.txt,
-# export.txt (bedexport's stages), steppers.txt and peers.txt (pipelines/bench-steppers.sh),
+# export.txt (bedexport's stages), steppers.txt, peers.txt and scaling.txt (pipelines/bench-steppers.sh),
 # threads.txt (pipelines/bench-threads.sh) and started
 # (the run's start, UTC); a missing one is named as not run. Adds the machine (CPU model,
 # cores, OS), the build (git commit, rustc, cargo profile) and the PELLET_BENCH_* and STEPPERS
@@ -56,6 +56,8 @@ section() {  # title, file in DIR, note under the figures
         'cpu_s: user + system CPU s of `pack`; settle_s: simulated s to settle; ratio: cpu_s over the peer'\''s (yardstick line; ../shared/peers/run.sh) on the same bed; pts/pair, warm_% and conv_%: the velocity stepper'\''s contact solve over the last 0.1 s (contact points a pair, % of loaded contacts warm started, % of steps converged); pen_%: the engine'\''s largest penetration over the run (% of dpv, pack'\''s log); olap_%: the deepest pellet-pellet overlap of the settled bed on the exact shapes (% of dpv, `voidprof --structure`, independent of the engine).'
     section 'The velocity-level stepper and rapier (`STEPPERS=velocity pipelines/bench-steppers.sh BIN "ring256 cyl620"`)' peers.txt \
         'The same columns; the yardsticks are rapier 0.36 pouring the same beds (../shared/peers/run.sh rapier-256-rings, rapier-620).'
+    section 'How the velocity-level stepper scales (`STEPPERS=velocity pipelines/bench-steppers.sh BIN "sph690 sph5000 cyl620 cyl2000"`)' scaling.txt \
+        'The same columns; ms/N/s, the CPU per pellet per simulated second, of the 5000-sphere and 2000-cylinder beds (the 690-sphere and 620-cylinder beds scaled at their height-to-diameter ratio) against the smaller beds of the same shape shows how the cost grows with the bed.'
     section 'Threads (`pipelines/bench-threads.sh`)' threads.txt \
         'wall_s, cpu_s: medians over the repeats of `pack --threads N`; wall_ratio: wall time over the one-thread run of the same repeat, median (min-max); cpu_ratio: the same for CPU; same_frames: every frame bit for bit the one-thread run'\''s. The serial fraction and what it gives on more cores: [docs/engine.md](docs/engine.md#threads).'
 } >"$tmp"
