@@ -92,9 +92,9 @@ $(OUT)/ring.pellet: | $(OUT)
 # case files. A bed with a record is not run again, so give such a study its
 # own DOCS (and ARCHIVE).
 STEPPER ?=
+# Every bed's make checks it, two at a time under -j: each writes its own temporary.
 $(OUT)/stepper: FORCE | $(OUT)
-	echo '$(STEPPER)' > $@.tmp
-	if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
+	echo '$(STEPPER)' > $@.$$$$ && if cmp -s $@.$$$$ $@; then rm -f $@.$$$$; else mv $@.$$$$ $@; fi
 .PHONY: FORCE
 FORCE:
 $(CASES)/%.toml: $(TABLE) $(HERE)/case.awk $(OUT)/stepper | $(CASES)
