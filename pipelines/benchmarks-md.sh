@@ -4,7 +4,7 @@
 # export.txt (bedexport's stages), steppers.txt, peers.txt and scaling.txt (pipelines/bench-steppers.sh),
 # threads.txt (pipelines/bench-threads.sh) and started
 # (the run's start, UTC); a missing one is named as not run. Adds the machine (CPU model,
-# cores, OS), the build (git commit, rustc, cargo profile) and the PELLET_BENCH_* and STEPPERS
+# cores, OS, load averages at the end), the build (git commit, rustc, cargo profile) and the PELLET_BENCH_* and STEPPERS
 # settings in the environment. Written to a temporary file beside FILE, then renamed over it.
 set -eu
 dir=$1
@@ -21,6 +21,7 @@ fi
 release=$(sed -n '/^\[profile\.release\]/,/^\[/{/^\[/d;/^[[:space:]]*$/d;/^#/d;p;}' Cargo.toml 2>/dev/null | paste -sd ';' - | sed 's/;/; /g')
 settings=$(env | grep -E '^(PELLET_BENCH_[A-Z_]*|STEPPERS|THREADS|REPEATS)=' | sort | paste -sd ' ' - || true)
 started=$(cat "$dir/started" 2>/dev/null || echo unknown)
+load=$(cut -d ' ' -f 1-3 /proc/loadavg 2>/dev/null || echo unknown)
 
 section() {  # title, file in DIR, note under the figures
     printf '\n## %s\n\n' "$1"
@@ -48,6 +49,7 @@ section() {  # title, file in DIR, note under the figures
     printf '| profile | release (`cargo bench`: bench, which inherits it); [profile.release]: %s |\n' "${release:-none, cargo defaults (opt-level 3)}"
     printf '| settings (environment) | %s |\n' "${settings:-none, the defaults}"
     printf '| run | started %s, finished %s |\n' "$started" "$(date -u '+%Y-%m-%d %H:%M UTC')"
+    printf '| load at the end | %s (1-, 5- and 15-minute load averages: above the number of cores, other work shared the machine, which the peer ratios, measured side by side, survive and the threads figures do not) |\n' "$load"
     section 'The engine'\''s pours (`cargo bench -p pellet_sim --bench pack_beds`)' pack_beds.txt \
         'Per case: tube D (mm), wall and simulated time (s), substeps, contacts, collisions, resting contacts and solver iterations per substep, residuals, unconverged islands, deepest penetration (fraction of 10 mm), kinetic energy at the end (J), top centre (m), wall s per pellet per simulated s, µs per pellet per substep, and the share (%) of the narrow, collision, resting and projection phases (crates/pellet_sim/benches/pack_beds.rs).'
     section 'voidprof on 600 spheres (`cargo run --release -p pellet_analysis --example bench_voidprof`)' voidprof.txt ''
