@@ -252,8 +252,10 @@ impl<'a> OneWay<'a> {
         let s = near.rim_point(rim.radius, rim.z, t);
         let feature = i as u32 | REFINED;
         let mut best = self.hit(&s, i, feature, None);
-        if phi < 0.0 {
-            for tk in self.face_minima(rim, &near, t, t0 - step, t0 + step) {
+        // A hit deeper than the signed distance took the edge's deeper face (`hit`), whose depth
+        // at an arbitrary point of a flat stretch is not its deepest.
+        if phi < 0.0 && best.as_ref().is_some_and(|b| b.gap < phi) {
+            if let Some(tk) = self.deeper_face_minimum(rim, &near, t, t0 - step, t0 + step) {
                 let h = self.hit(&near.rim_point(rim.radius, rim.z, tk), i, feature, None);
                 if let Some(h) = h.filter(|h| best.as_ref().is_none_or(|b| h.gap < b.gap)) {
                     best = Some(h);
@@ -278,32 +280,24 @@ impl<'a> OneWay<'a> {
     }
 
     /// Where src's rim at angle `t` lies inside dst near an edge of dst parallel to it, the
-    /// angles in [lo, hi] at which each of that edge's two faces is deepest along the rim. The
-    /// signed distance there is the shallower face's depth, which can be flat along the rim:
-    /// upright cylinders side by side with flush caps overlap in a lens all of whose rim points
-    /// lie equally far below the other's cap, and the refined point fell anywhere in it, short
-    /// of the sides' overlap (7.5 µm seen as 0.3 µm in a 2000-cylinder bed). Crossing rims are
-    /// `edge_edge`'s.
-    fn face_minima(&self, rim: &Rim, near: &AngleNear, t: Real, lo: Real, hi: Real) -> Vec<Real> {
+    /// angle in [lo, hi] at which the deeper of that edge's two faces is deepest along the rim.
+    /// The signed distance there is the shallower face's depth, which can be flat along the
+    /// rim: upright cylinders side by side with flush caps overlap in a lens all of whose rim
+    /// points lie equally far below the other's cap, and the refined point fell anywhere in
+    /// it, short of the sides' overlap (7.5 µm seen as 0.3 µm in a 2000-cylinder bed).
+    /// Crossing rims are `edge_edge`'s.
+    fn deeper_face_minimum(&self, rim: &Rim, near: &AngleNear, t: Real, lo: Real, hi: Real) -> Option<Real> {
         let at = |t: Real| self.m * near.rim_point(rim.radius, rim.z, t) + self.t;
-        let pd = at(t);
-        let Some([(_, side), _]) = edge_faces(self.dst.shape, &pd, EDGE_BAND * self.dst.geom.bounding_radius) else {
-            return Vec::new();
-        };
+        let faces = edge_faces(self.dst.shape, &at(t), EDGE_BAND * self.dst.geom.bounding_radius)?;
         let (c, s) = near.cos_sin(t);
         let t_src = self.m * Vec3::new(-s, c, 0.0);
-        let t_dst = Vec3::z().cross(&side);
+        let t_dst = Vec3::z().cross(&faces[0].1);
         if t_src.cross(&t_dst).norm() > EDGE_PARALLEL * t_src.norm() * t_dst.norm() {
-            return Vec::new();
+            return None;
         }
-        (0..2)
-            .map(|k| {
-                let depth =
-                    |t: Real| edge_faces(self.dst.shape, &at(t), Real::INFINITY).map_or(Real::INFINITY, |f| f[k].0);
-                rim_min(depth, lo, hi).0
-            })
-            .filter(|&tk| tk != t)
-            .collect()
+        let k = if faces[0].0 < faces[1].0 { 0 } else { 1 };
+        let depth = |t: Real| edge_faces(self.dst.shape, &at(t), Real::INFINITY).map_or(Real::INFINITY, |f| f[k].0);
+        Some(rim_min(depth, lo, hi).0).filter(|&tk| tk != t)
     }
 
     /// The hit for a persistent feature (used to re-evaluate one contact).
