@@ -207,14 +207,8 @@ impl<'a> OneWay<'a> {
         if axial_distance(qx, qy) > EDGE_BAND * self.dst.geom.bounding_radius {
             return None;
         }
-        // Tangents of src's rim circle at s and of dst's edge circle at pd, in dst's frame.
-        let t_src = self.m * Vec3::new(-s.y, s.x, 0.0);
-        let t_dst = Vec3::z().cross(&side);
-        let n = t_src.cross(&t_dst);
+        let n = self.rim_edge_cross(s, &side)?;
         let len = n.norm();
-        if len <= EDGE_PARALLEL * t_src.norm() * t_dst.norm() {
-            return None;
-        }
         let n = if n.dot(&(side + ez)) < 0.0 { -n / len } else { n / len };
         let (a, b) = (n.dot(&side), n.dot(&ez));
         if a < 0.0 || b < 0.0 || cone_alignment(&-n, cone) < WEDGE_COS {
@@ -255,7 +249,7 @@ impl<'a> OneWay<'a> {
         // A hit deeper than the signed distance took the edge's deeper face (`hit`), whose depth
         // at an arbitrary point of a flat stretch is not its deepest.
         if phi < 0.0 && best.as_ref().is_some_and(|b| b.gap < phi) {
-            if let Some(tk) = self.deeper_face_minimum(rim, &near, t, t0 - step, t0 + step) {
+            if let Some(tk) = self.deeper_face_minimum(rim, &near, &s, t, t0 - step, t0 + step) {
                 let h = self.hit(&near.rim_point(rim.radius, rim.z, tk), i, feature, None);
                 if let Some(h) = h.filter(|h| best.as_ref().is_none_or(|b| h.gap < b.gap)) {
                     best = Some(h);
@@ -286,18 +280,26 @@ impl<'a> OneWay<'a> {
     /// points lie equally far below the other's cap, and the refined point fell anywhere in
     /// it, short of the sides' overlap (7.5 µm seen as 0.3 µm in a 2000-cylinder bed).
     /// Crossing rims are `edge_edge`'s.
-    fn deeper_face_minimum(&self, rim: &Rim, near: &AngleNear, t: Real, lo: Real, hi: Real) -> Option<Real> {
+    /// `s` is the rim point at `t`, in src's frame.
+    fn deeper_face_minimum(&self, rim: &Rim, near: &AngleNear, s: &Vec3, t: Real, lo: Real, hi: Real) -> Option<Real> {
         let at = |t: Real| self.m * near.rim_point(rim.radius, rim.z, t) + self.t;
-        let faces = edge_faces(self.dst.shape, &at(t), EDGE_BAND * self.dst.geom.bounding_radius)?;
-        let (c, s) = near.cos_sin(t);
-        let t_src = self.m * Vec3::new(-s, c, 0.0);
-        let t_dst = Vec3::z().cross(&faces[0].1);
-        if t_src.cross(&t_dst).norm() > EDGE_PARALLEL * t_src.norm() * t_dst.norm() {
+        let faces = edge_faces(self.dst.shape, &(self.m * s + self.t), EDGE_BAND * self.dst.geom.bounding_radius)?;
+        if self.rim_edge_cross(s, &faces[0].1).is_some() {
             return None;
         }
         let k = if faces[0].0 < faces[1].0 { 0 } else { 1 };
         let depth = |t: Real| edge_faces(self.dst.shape, &at(t), Real::INFINITY).map_or(Real::INFINITY, |f| f[k].0);
         Some(rim_min(depth, lo, hi).0).filter(|&tk| tk != t)
+    }
+
+    /// t_src × t_dst, the tangents (in dst's frame) of src's rim circle at its body-frame point
+    /// `s` and of dst's edge circle whose side faces `side`; None where the two are closer to
+    /// parallel than `EDGE_PARALLEL` (stacked or side-by-side rims, where the faces decide).
+    fn rim_edge_cross(&self, s: &Vec3, side: &Vec3) -> Option<Vec3> {
+        let t_src = self.m * Vec3::new(-s.y, s.x, 0.0);
+        let t_dst = Vec3::z().cross(side);
+        let n = t_src.cross(&t_dst);
+        (n.norm() > EDGE_PARALLEL * t_src.norm() * t_dst.norm()).then_some(n)
     }
 
     /// The hit for a persistent feature (used to re-evaluate one contact).
