@@ -36,6 +36,7 @@ mod math;
 mod params;
 mod pipeline;
 mod shape;
+mod team;
 
 pub use body::{Body, BodyId, TypeId};
 pub use container::{Container, PlaneWall, WallId};

@@ -91,7 +91,8 @@ fn every_thread_count_packs_the_same_bed_bit_for_bit() {
     let d = dir.path();
     let beds: [(&str, &str, &str, &[&str]); 3] = [
         ("c.pellet", "20", "0.4", &[]),
-        ("s.pellet", "60", "0.4", &[]),
+        // Enough contacts for the impulse solve to sweep on several threads.
+        ("s.pellet", "150", "0.4", &[]),
         ("c.pellet", "20", "0.3", &["--stepper", "acceleration"]),
     ];
     for (pellet, count, max_time, extra) in beds {
@@ -118,15 +119,16 @@ fn every_thread_count_packs_the_same_bed_bit_for_bit() {
 }
 
 /// A run made on 2 threads, stopped at its time limit, goes on on 1 to the frames of the
-/// uninterrupted run; the metadata records each leg's threads.
+/// uninterrupted run (a bed of spheres large enough for a solve on both threads); the metadata
+/// records each leg's threads.
 #[test]
 fn a_run_made_on_two_threads_resumes_on_one_exactly() {
     let dir = setup();
     let d = dir.path();
-    assert_eq!(pack_owned(d, &bed("c.pellet", "20", "0.4", "2", "whole.mcap")).status.code(), Some(1));
+    assert_eq!(pack_owned(d, &bed("s.pellet", "150", "0.4", "2", "whole.mcap")).status.code(), Some(1));
     let whole = read(d, "whole.mcap");
-    assert_eq!(pack_owned(d, &bed("c.pellet", "20", "0.2", "2", "a.mcap")).status.code(), Some(1));
-    let mut again = bed("c.pellet", "20", "0.4", "1", "a.mcap");
+    assert_eq!(pack_owned(d, &bed("s.pellet", "150", "0.25", "2", "a.mcap")).status.code(), Some(1));
+    let mut again = bed("s.pellet", "150", "0.4", "1", "a.mcap");
     again.push("--resume".into());
     let out = pack_owned(d, &again);
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));

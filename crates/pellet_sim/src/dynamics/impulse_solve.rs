@@ -9,14 +9,17 @@
 //! anisotropy, which is zero for spheres and walls). A contact point stands for a small patch
 //! and resists the relative turning of its bodies as a patch does (`docs/engine.md`, "Contact
 //! points as small patches"): a spin row bounded by the patch's Coulomb torque and a rolling
-//! pair bounded by the normal force at the patch's rim. Bodies' velocities live
-//! in flat arrays for the sweeps; the answer is deterministic (contacts in their given order).
+//! pair bounded by the normal force at the patch's rim. The sweeps go slab by slab of bodies,
+//! on one thread or several, with the same answer for any number of them (`slabs`, `sweep`).
 
 use crate::body::Body;
 use crate::geometry::contact::Contact;
 use crate::math::{Mat3, Real, Vec3};
+use crate::team::Team;
 
 mod patch;
+mod slabs;
+mod sweep;
 use patch::PatchBlock;
 
 /// A block's update smaller than this fraction of the tolerance (m/s of relative velocity) is
@@ -50,6 +53,8 @@ pub struct WarmStart {
 /// One contact's rows, with their M⁻¹Jᵀ blocks (B's with its sign applied).
 #[derive(Debug, Clone)]
 struct Block {
+    /// The bodies, as indices of the velocities the block is solved on (the solve's, then its
+    /// task's: `sweep`).
     a: usize,
     /// usize::MAX for a wall.
     b: usize,
@@ -107,6 +112,26 @@ pub struct VelocityState {
     pub w: Vec<Vec3>,
     inv_mass: Vec<Real>,
     inv_inertia: Vec<Mat3>,
+    /// Heights of the bodies' centres, m: where the solve cuts its slabs (`slabs`).
+    height: Vec<Real>,
+}
+
+/// Bodies' velocities by index, wherever they are kept: the solve's flat arrays, or the two
+/// slabs a task of the sweep works on.
+trait Velocities {
+    fn v(&mut self, i: usize) -> &mut Vec3;
+    fn w(&mut self, i: usize) -> &mut Vec3;
+}
+
+impl Velocities for VelocityState {
+    #[inline]
+    fn v(&mut self, i: usize) -> &mut Vec3 {
+        &mut self.v[i]
+    }
+    #[inline]
+    fn w(&mut self, i: usize) -> &mut Vec3 {
+        &mut self.w[i]
+    }
 }
 
 impl VelocityState {
@@ -117,6 +142,7 @@ impl VelocityState {
             w: bodies.iter().map(Body::angular_velocity).collect(),
             inv_mass: bodies.iter().map(Body::inv_mass).collect(),
             inv_inertia: bodies.iter().map(Body::inv_inertia_world).collect(),
+            height: bodies.iter().map(|b| b.position.z).collect(),
         }
     }
 
@@ -192,33 +218,33 @@ impl Block {
     /// Relative velocity of the contact along its normal and two tangents, from one relative
     /// velocity vector.
     #[inline]
-    fn speeds(&self, st: &VelocityState) -> [Real; 3] {
-        let mut u = st.v[self.a] + st.w[self.a].cross(&self.lever_a);
+    fn speeds(&self, st: &mut impl Velocities) -> [Real; 3] {
+        let mut u = *st.v(self.a) + st.w(self.a).cross(&self.lever_a);
         if self.b != usize::MAX {
-            u -= st.v[self.b] + st.w[self.b].cross(&self.lever_b);
+            u -= *st.v(self.b) + st.w(self.b).cross(&self.lever_b);
         }
         [self.dir[0].dot(&u), self.dir[1].dot(&u), self.dir[2].dot(&u)]
     }
 
     /// Applies the impulse changes `dl` (normal, then the two tangents) to both bodies at once.
     #[inline]
-    fn apply_all(&self, st: &mut VelocityState, dl: [Real; 3]) {
+    fn apply_all(&self, st: &mut impl Velocities, dl: [Real; 3]) {
         let j = self.dir[0] * dl[0] + self.dir[1] * dl[1] + self.dir[2] * dl[2];
-        st.v[self.a] += j * self.inv_ma;
-        st.w[self.a] += self.w_a[0] * dl[0] + self.w_a[1] * dl[1] + self.w_a[2] * dl[2];
+        *st.v(self.a) += j * self.inv_ma;
+        *st.w(self.a) += self.w_a[0] * dl[0] + self.w_a[1] * dl[1] + self.w_a[2] * dl[2];
         if self.b != usize::MAX {
-            st.v[self.b] -= j * self.inv_mb;
-            st.w[self.b] += self.w_b[0] * dl[0] + self.w_b[1] * dl[1] + self.w_b[2] * dl[2];
+            *st.v(self.b) -= j * self.inv_mb;
+            *st.w(self.b) += self.w_b[0] * dl[0] + self.w_b[1] * dl[1] + self.w_b[2] * dl[2];
         }
     }
 
     #[inline]
-    fn apply(&self, st: &mut VelocityState, i: usize, dl: Real) {
-        st.v[self.a] += self.dir[i] * (self.inv_ma * dl);
-        st.w[self.a] += self.w_a[i] * dl;
+    fn apply(&self, st: &mut impl Velocities, i: usize, dl: Real) {
+        *st.v(self.a) += self.dir[i] * (self.inv_ma * dl);
+        *st.w(self.a) += self.w_a[i] * dl;
         if self.b != usize::MAX {
-            st.v[self.b] -= self.dir[i] * (self.inv_mb * dl);
-            st.w[self.b] += self.w_b[i] * dl;
+            *st.v(self.b) -= self.dir[i] * (self.inv_mb * dl);
+            *st.w(self.b) += self.w_b[i] * dl;
         }
     }
 }
@@ -236,8 +262,9 @@ fn onto_disk(t: [Real; 2], bound: Real) -> [Real; 2] {
 }
 
 /// Solves the step's contact problem from the free velocities in `st` (changed in place to
-/// the velocities after the step), starting from `warm` impulses. Stops once a sweep changes no relative velocity by more than `tolerance` (m/s), or
-/// after `max_sweeps`.
+/// the velocities after the step), starting from `warm` impulses. Stops once a sweep changes
+/// no relative velocity by more than `tolerance` (m/s), or after `max_sweeps`. The sweeps run
+/// on `team`'s threads; the answer does not depend on how many (`slabs`).
 pub fn solve_impulses(
     contacts: &[Contact],
     targets: &[NormalTarget],
@@ -245,108 +272,13 @@ pub fn solve_impulses(
     st: &mut VelocityState,
     tolerance: Real,
     max_sweeps: usize,
+    team: &Team,
 ) -> ImpulseSolution {
-    let blocks: Vec<Block> = contacts.iter().zip(targets).map(|(c, t)| Block::new(c, st, t)).collect();
-    let patches: Vec<Option<PatchBlock>> =
-        contacts.iter().zip(&blocks).zip(targets).map(|((c, b), t)| PatchBlock::new(c, b, st, t)).collect();
     let relative_before: Vec<Vec3> = contacts.iter().map(|c| st.relative(c)).collect();
-    let mut ln: Vec<Real> = Vec::with_capacity(blocks.len());
-    let mut lt: Vec<[Real; 2]> = Vec::with_capacity(blocks.len());
-    let mut lw: Vec<[Real; 3]> = vec![[0.0; 3]; blocks.len()];
-    for (k, (blk, w)) in blocks.iter().zip(warm).enumerate() {
-        let (n0, f0) = (w.normal.max(0.0), w.friction);
-        if let Some(p) = &patches[k] {
-            let mut l = blk.dir.map(|d| d.dot(&w.torque));
-            p.clamp(&mut l, n0);
-            for (i, &li) in l.iter().enumerate() {
-                p.apply(blk, st, i, li);
-            }
-            lw[k] = l;
-        }
-        let t = onto_disk([f0.dot(&blk.dir[1]), f0.dot(&blk.dir[2])], blk.mu * n0);
-        blk.apply(st, 0, n0);
-        blk.apply(st, 1, t[0]);
-        blk.apply(st, 2, t[1]);
-        ln.push(n0);
-        lt.push(t);
-    }
-    // Bottom up: a pile's weight reaches the floor in one sweep, not one layer per sweep.
-    let mut order: Vec<usize> = (0..blocks.len()).collect();
-    order.sort_by(|&i, &j| contacts[i].point.z.total_cmp(&contacts[j].point.z).then(i.cmp(&j)));
-    // A block whose last visit changed nothing that counts, and whose bodies nobody has moved
-    // since, would change nothing again: it is passed by. In a bed at rest most blocks are.
-    let negligible = QUIET_FRACTION * tolerance;
-    let mut moved = vec![0u64; st.v.len()];
-    let mut seen = vec![0u64; blocks.len()];
-    let mut quiet = vec![false; blocks.len()];
-    let mut clock = 1u64;
-    let mut sol = ImpulseSolution { converged: blocks.is_empty(), ..ImpulseSolution::default() };
-    while sol.sweeps < max_sweeps && !blocks.is_empty() {
-        sol.sweeps += 1;
-        let mut change: Real = 0.0;
-        for &k in &order {
-            let blk = &blocks[k];
-            let still = |body: usize| body == usize::MAX || moved[body] <= seen[k];
-            if quiet[k] && still(blk.a) && still(blk.b) {
-                continue;
-            }
-            // The normal row, then the tangential pair with the normal change folded into their
-            // relative velocities (K_tn), both written to the bodies in one update.
-            let mut dv: Real = 0.0;
-            let [un, mut u1, mut u2] = blk.speeds(st);
-            let mut delta = [0.0; 3];
-            let new = (ln[k] + (blk.target - un) * blk.inv_knn).max(0.0);
-            let dl = new - ln[k];
-            if dl.abs() * blk.knn > negligible {
-                ln[k] = new;
-                dv = dl.abs() * blk.knn;
-                delta[0] = dl;
-                u1 += blk.kt_n[0] * dl;
-                u2 += blk.kt_n[1] * dl;
-            }
-            let bound = blk.mu * ln[k];
-            let old = lt[k];
-            let t = onto_disk(
-                [
-                    old[0] - (blk.kt_inv[0][0] * u1 + blk.kt_inv[0][1] * u2),
-                    old[1] - (blk.kt_inv[1][0] * u1 + blk.kt_inv[1][1] * u2),
-                ],
-                bound,
-            );
-            let d = [t[0] - old[0], t[1] - old[1]];
-            let dt = (d[0] * d[0] + d[1] * d[1]).sqrt() * blk.kt_trace;
-            if dt > negligible {
-                lt[k] = t;
-                dv = dv.max(dt);
-                delta[1] = d[0];
-                delta[2] = d[1];
-            }
-            if dv > 0.0 {
-                blk.apply_all(st, delta);
-            }
-            if let Some(p) = &patches[k] {
-                dv = dv.max(p.visit(blk, st, &mut lw[k], ln[k], negligible));
-            }
-            quiet[k] = dv == 0.0;
-            if !quiet[k] {
-                clock += 1;
-                moved[blk.a] = clock;
-                if blk.b != usize::MAX {
-                    moved[blk.b] = clock;
-                }
-            }
-            seen[k] = clock;
-            change = change.max(dv);
-        }
-        sol.residual = change;
-        if change <= tolerance {
-            sol.converged = true;
-            break;
-        }
-    }
-    sol.friction = blocks.iter().zip(&lt).map(|(b, t)| b.dir[1] * t[0] + b.dir[2] * t[1]).collect();
-    sol.torque = blocks.iter().zip(&lw).map(|(b, l)| b.dir[0] * l[0] + b.dir[1] * l[1] + b.dir[2] * l[2]).collect();
-    sol.normal = ln;
+    let layout = slabs::Layout::new(contacts, &st.height);
+    let mut solve = sweep::Solve::new(&layout, contacts, targets, warm, st);
+    let mut sol = solve.run(QUIET_FRACTION * tolerance, tolerance, max_sweeps, team);
+    solve.finish(&layout, contacts.len(), st, &mut sol);
     sol.relative_after = contacts.iter().map(|c| st.relative(c)).collect();
     sol.relative_before = relative_before;
     sol
@@ -405,6 +337,7 @@ mod tests {
             &mut st,
             1e-12,
             50,
+            &Team::default(),
         );
         assert!((sol.normal[0] - 1e-3 * 9.81 * h).abs() < 1e-15);
         assert!(st.v[0].z.abs() < 1e-12);
@@ -421,11 +354,12 @@ mod tests {
         let c = floor(0, 5e-3);
         let t = [NormalTarget { min_speed: 0.5, mu: 0.0, patch: 0.0, rolls: true }];
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, 1e-3);
-        let sol = solve_impulses(std::slice::from_ref(&c), &t, &[WarmStart::default()], &mut st, 1e-12, 50);
+        let sol =
+            solve_impulses(std::slice::from_ref(&c), &t, &[WarmStart::default()], &mut st, 1e-12, 50, &Team::default());
         assert!((st.v[0].z - 0.5).abs() < 1e-12);
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, 1e-3);
         let warm = WarmStart { normal: sol.normal[0], ..WarmStart::default() };
-        let again = solve_impulses(&[c], &t, &[warm], &mut st, 1e-12, 50);
+        let again = solve_impulses(&[c], &t, &[warm], &mut st, 1e-12, 50, &Team::default());
         assert_eq!(again.sweeps, 1);
         assert!((st.v[0].z - 0.5).abs() < 1e-12);
     }
@@ -440,7 +374,7 @@ mod tests {
         let g = Vec3::new(0.0, 0.0, -9.81);
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
         let t = [NormalTarget { min_speed: 0.0, mu, patch: a, rolls: true }];
-        let sol = solve_impulses(&[floor(0, 5e-3)], &t, &[WarmStart::default()], &mut st, 1e-12, 50);
+        let sol = solve_impulses(&[floor(0, 5e-3)], &t, &[WarmStart::default()], &mut st, 1e-12, 50, &Team::default());
         let want = 50.0 - patch::SPIN_FACTOR * mu * a * 1e-3 * 9.81 * h / 1e-8;
         assert!((st.w[0].z - want).abs() < 1e-12, "{} against {want}", st.w[0].z);
         assert!(sol.converged);
@@ -458,12 +392,93 @@ mod tests {
         let g = Vec3::new(0.0, 0.0, -9.81);
         let mut st = VelocityState::free(std::slice::from_ref(&b), &g, h);
         let t = [NormalTarget { min_speed: 0.0, mu: 0.5, patch: a, rolls: true }];
-        let sol = solve_impulses(&[floor(0, r)], &t, &[WarmStart::default()], &mut st, 1e-14, 200);
+        let sol = solve_impulses(&[floor(0, r)], &t, &[WarmStart::default()], &mut st, 1e-14, 200, &Team::default());
         let want = w0 - a * 1e-3 * 9.81 * h / (1e-8 + 1e-3 * r * r);
         assert!(sol.converged);
         assert!((st.w[0].x - want).abs() < 1e-9, "{} against {want}", st.w[0].x);
         assert!((st.v[0].y + st.w[0].x * r).abs() < 1e-9, "the contact slips");
         assert!((sol.torque[0].x + a * sol.normal[0]).abs() < 1e-18);
+    }
+
+    /// A pile of spheres on a lattice, touching, falling on the floor with scattered
+    /// velocities and spins: enough contacts for the solve to take several threads.
+    pub(super) fn pile() -> (Vec<Body>, Vec<Contact>, Vec<NormalTarget>) {
+        let (r, n) = (5e-3, 7usize);
+        let mut bodies = Vec::new();
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut noise = || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (seed >> 11) as Real / (1u64 << 53) as Real - 0.5
+        };
+        for k in 0..n * n * n {
+            let (i, j, l) = (k % n, k / n % n, k / (n * n));
+            let at = Vec3::new(i as Real, j as Real, l as Real) * 2.0 * r + Vec3::new(0.0, 0.0, r);
+            let mut b = sphere(at.z, Vec3::new(noise(), noise(), noise() - 1.0) * 0.1);
+            b.position = at;
+            b.angular_momentum = Vec3::new(noise(), noise(), noise()) * 1e-8 * 20.0;
+            bodies.push(b);
+        }
+        let mut contacts = Vec::new();
+        for (a, ba) in bodies.iter().enumerate() {
+            if ba.position.z < 1.5 * r {
+                contacts.push(floor(a, r));
+            }
+            for (b, bb) in bodies.iter().enumerate().skip(a + 1) {
+                let d = bb.position - ba.position;
+                if d.norm() < 2.0 * r + 1e-9 {
+                    let normal = -d.normalize();
+                    contacts.push(Contact {
+                        a,
+                        b: Counterpart::Body(b),
+                        point: ba.position - normal * r,
+                        lever_a: -normal * r,
+                        lever_b: normal * r,
+                        normal,
+                        gap: 0.0,
+                        kinematics: GapKinematics::SphereSphere { distance: d.norm() },
+                        key: ContactKey { a: a as u32, b: Counterpart::Body(b), feature: 0 },
+                    });
+                }
+            }
+        }
+        let targets = contacts
+            .iter()
+            .enumerate()
+            .map(|(k, _)| NormalTarget {
+                min_speed: if k % 7 == 0 { 0.05 } else { 0.0 },
+                mu: 0.4,
+                patch: 1e-5,
+                rolls: k % 3 != 0,
+            })
+            .collect();
+        (bodies, contacts, targets)
+    }
+
+    /// The answer does not depend on the threads: every impulse and velocity bit for bit, for
+    /// 1, 2 and 3 threads, converged (to 0.1 mm/s: the lattice's friction is statically
+    /// indeterminate, and Gauss–Seidel creeps there) or stopped at the sweep cap.
+    #[test]
+    fn any_thread_count_gives_the_same_answer() {
+        let (bodies, contacts, targets) = pile();
+        assert!(contacts.len() > 4 * sweep::MIN_PARALLEL_CONTACTS, "{} contacts", contacts.len());
+        let warm: Vec<WarmStart> = (0..contacts.len())
+            .map(|k| WarmStart { normal: if k % 2 == 0 { 1e-7 } else { 0.0 }, ..WarmStart::default() })
+            .collect();
+        for sweeps in [3, 10_000] {
+            let solve = |threads: usize| {
+                let mut st = VelocityState::free(&bodies, &Vec3::new(0.0, 0.0, -9.81), 1e-3);
+                let sol = solve_impulses(&contacts, &targets, &warm, &mut st, 1e-4, sweeps, &Team::new(threads));
+                let bits = |v: &[Vec3]| v.iter().flat_map(|x| x.iter().map(|c| c.to_bits())).collect::<Vec<u64>>();
+                let normal: Vec<u64> = sol.normal.iter().map(|x| x.to_bits()).collect();
+                (normal, bits(&sol.friction), bits(&sol.torque), bits(&st.v), bits(&st.w), sol.sweeps, sol.converged)
+            };
+            let one = solve(1);
+            assert!(one.0.iter().any(|&x| x != 0), "no impulse");
+            assert_eq!(one.6, sweeps > 3, "{} sweeps", one.5);
+            for threads in [2, 3] {
+                assert!(solve(threads) == one, "{threads} threads, cap {sweeps}");
+            }
+        }
     }
 
     #[test]

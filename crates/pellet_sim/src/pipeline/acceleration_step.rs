@@ -17,6 +17,7 @@ use crate::geometry::narrow_phase::{collide_pair_cached, collide_wall};
 use crate::geometry::sample_cache::SampleCache;
 use crate::math::{Real, Vec3};
 use crate::shape::ShapeDesc;
+use crate::team::Team;
 
 impl World {
     /// Advances to `t_end` with the force-level stepper.
@@ -57,7 +58,7 @@ impl World {
         prox: &Proximity,
         max_gap: Real,
         cache: &mut SampleCache,
-        threads: usize,
+        team: &Team,
     ) -> Result<Vec<Contact>, SimError> {
         // Room for one contact per pair and wall (what sphere beds give) without regrowing, and
         // for other shapes a reduced patch of 4 per pair and 8 per wall (4 points on each of
@@ -67,10 +68,10 @@ impl World {
         let spheres = self.types.iter().all(|t| matches!(t.shape, ShapeDesc::Sphere { .. }));
         let (per_pair, per_wall) = if spheres { (1, 1) } else { (4, 8) };
         cache.next_round();
-        if threads > 1 {
+        if team.threads() > 1 {
             let pairs = prox.pairs.iter().map(|&(i, j)| (i, j, max_gap));
             let walls = prox.walls.iter().map(|&(k, wall)| (k, wall, max_gap));
-            return self.contacts_on_threads(pairs, walls, cache, None, threads);
+            return self.contacts_on_threads(pairs, walls, cache, None, team);
         }
         let mut out = Vec::with_capacity(per_pair * prox.pairs.len() + per_wall * prox.walls.len());
         for &(i, j) in &prox.pairs {
@@ -103,8 +104,7 @@ impl World {
         loop {
             // Generate contacts a little ahead: up to the distance a pair can close in dt.
             let clock = std::time::Instant::now();
-            let contacts =
-                self.narrow_phase(prox, delta_c + prox.v_max * dt, &mut pipeline.samples, pipeline.threads)?;
+            let contacts = self.narrow_phase(prox, delta_c + prox.v_max * dt, &mut pipeline.samples, &pipeline.team)?;
             report.wall_seconds[0] += clock.elapsed().as_secs_f64();
             let (cor, mu): (Vec<Real>, Vec<Real>) = contacts
                 .iter()

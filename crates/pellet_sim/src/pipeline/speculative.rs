@@ -141,9 +141,9 @@ impl World {
             Counterpart::Wall(w) => Some((a, w, reach)),
             Counterpart::Body(_) => None,
         });
-        if pipeline.threads > 1 {
+        if pipeline.team.threads() > 1 {
             let memory = Some(pipeline.impulses.as_slice());
-            return self.contacts_on_threads(pairs, walls, &mut pipeline.samples, memory, pipeline.threads);
+            return self.contacts_on_threads(pairs, walls, &mut pipeline.samples, memory, &pipeline.team);
         }
         let mut out = Vec::new();
         let mut kept = Vec::new();

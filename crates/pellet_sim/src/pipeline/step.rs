@@ -15,6 +15,7 @@ use crate::geometry::pair_cache::PairCache;
 use crate::geometry::sample_cache::SampleCache;
 use crate::math::{Real, Vec3};
 use crate::params::Stepper;
+use crate::team::Team;
 use serde::{Deserialize, Serialize};
 
 /// One contact of the last committed substep, with the forces the resting phase gave it.
@@ -49,9 +50,10 @@ pub struct Pipeline {
     last: Vec<Contact>,
     last_forces: (Vec<Real>, Vec<Vec3>),
     last_records: std::cell::OnceCell<Vec<ContactRecord>>,
-    /// Threads of the narrow phase (0 or 1: the calling thread alone); any number gives the
-    /// same contacts bit for bit (`threads`).
+    /// Threads of the narrow phase and the impulse solve (0 or 1: the calling thread alone);
+    /// any number gives the same step bit for bit (`threads`, `team`).
     pub(super) threads: usize,
+    pub(super) team: Team,
 }
 
 /// A resting force of the last committed substep, kept by contact key as the next resting
@@ -93,10 +95,14 @@ impl Pipeline {
         Self::default()
     }
 
-    /// Collide the near pairs and walls of each step on `threads` threads (0 or 1: the calling
-    /// thread alone). The results do not depend on it: the contacts are the serial loop's,
+    /// Collide the near pairs and walls of each step, and sweep the velocity-level stepper's
+    /// impulse solve, on `threads` threads (0 or 1: the calling thread alone). The results do
+    /// not depend on it: the contacts are the serial loop's and the solve's answer the same,
     /// bit for bit.
     pub fn set_threads(&mut self, threads: usize) {
+        if threads.max(1) != self.team.threads() {
+            self.team = Team::new(threads);
+        }
         self.threads = threads;
     }
 
@@ -106,7 +112,7 @@ impl Pipeline {
         self
     }
 
-    /// The narrow phase's threads (as set; 0 and 1 both mean the calling thread alone).
+    /// The step's threads (as set; 0 and 1 both mean the calling thread alone).
     pub fn threads(&self) -> usize {
         self.threads
     }

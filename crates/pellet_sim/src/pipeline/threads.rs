@@ -2,7 +2,7 @@
 //! pair or wall depend on nothing but the two poses, the gap limit, the pair's features of the
 //! last step and its own entry of the sample cache. So each sampled pair's entry is taken out
 //! of the cache, the pairs and walls are split into chunks in the serial loop's order, the
-//! chunks are collided on up to `threads` threads (a thread that is done takes the next chunk),
+//! chunks are collided on the pipeline's team of threads (a thread that is done takes the next chunk),
 //! each chunk into its own list, the lists are joined in chunk order and the entries put back:
 //! the contacts of the serial loop bit for bit, whichever thread did which chunk.
 
@@ -18,6 +18,7 @@ use crate::geometry::contact::Contact;
 use crate::geometry::narrow_phase::{collide_pair_with, collide_wall, is_sampled_pair};
 use crate::geometry::sample_cache::{PairSamples, SampleCache};
 use crate::math::Real;
+use crate::team::Team;
 
 /// Fewest jobs in a chunk: a bed of a few pellets is collided on the calling thread alone,
 /// where starting a thread would cost more than its share of the work.
@@ -45,7 +46,7 @@ enum Other {
 
 impl World {
     /// The contacts of `pairs` (i, j, gap limit) and then `walls` (body, wall, gap limit), in
-    /// that order, as the serial loops give them, collided on up to `threads` threads.
+    /// that order, as the serial loops give them, collided on `team`'s threads.
     /// `memory`: the velocity-level stepper's impulses of the last step, sorted by key (its
     /// rules: `collide_pair_kept`); `None` for the force-level stepper's
     /// (`collide_pair_cached`). Call `cache.next_round()` first, as for the serial loops.
@@ -55,7 +56,7 @@ impl World {
         walls: impl Iterator<Item = (usize, WallId, Real)>,
         cache: &mut SampleCache,
         memory: Option<&[WarmImpulse]>,
-        threads: usize,
+        team: &Team,
     ) -> Result<Vec<Contact>, SimError> {
         let shape = |k: usize| &self.types[self.bodies[k].type_id.0 as usize].shape;
         let mut jobs: Vec<Job> = pairs
@@ -68,7 +69,7 @@ impl World {
             .chain(walls.map(|(a, wall, max_gap)| Job { a, b: Other::Wall(wall), max_gap, samples: None }))
             .collect();
         let pellet = |k: usize| self.pellet(&self.bodies, k, self.bodies[k].type_id.0 as usize);
-        let contacts = in_order(threads, &mut jobs, |chunk, out| {
+        let contacts = in_order(team, &mut jobs, |chunk, out| {
             let mut kept = Vec::new();
             for job in chunk {
                 match job.b {
@@ -101,17 +102,17 @@ impl World {
     }
 }
 
-/// What `work` appends for `items`, on up to `threads` threads: the items are split into
+/// What `work` appends for `items`, on `team`'s threads: the items are split into
 /// chunks in order, each chunk's output is kept apart, and the outputs are joined in chunk
 /// order, so the result is the serial one whichever thread ran which chunk. An error is the
 /// first in that order (a chunk stops at its first, as the serial loop does).
 fn in_order<T: Send, R: Send>(
-    threads: usize,
+    team: &Team,
     items: &mut [T],
     work: impl Fn(&mut [T], &mut Vec<R>) -> Result<(), SimError> + Sync,
 ) -> Result<Vec<R>, SimError> {
-    let chunks = (items.len() / MIN_CHUNK).clamp(1, threads.max(1) * CHUNKS_PER_THREAD);
-    let workers = threads.clamp(1, chunks);
+    let chunks = (items.len() / MIN_CHUNK).clamp(1, team.threads() * CHUNKS_PER_THREAD);
+    let workers = team.threads().clamp(1, chunks);
     if workers == 1 {
         let mut out = Vec::with_capacity(items.len());
         work(items, &mut out)?;
@@ -129,12 +130,7 @@ fn in_order<T: Send, R: Send>(
             *result = work(chunk, out);
         }
     };
-    std::thread::scope(|scope| {
-        for _ in 1..workers {
-            scope.spawn(run);
-        }
-        run();
-    });
+    team.run(workers, |_, _| run());
     let parts: Vec<_> = slots.into_iter().map(|s| s.into_inner().unwrap_or_else(PoisonError::into_inner)).collect();
     let mut joined = Vec::with_capacity(parts.iter().map(|(_, out, _)| out.len()).sum());
     for (_, out, result) in parts {
@@ -153,7 +149,7 @@ mod tests {
         let serial: Vec<u64> = (0..1000u64).flat_map(|k| 0..k % 5).collect();
         for threads in [1, 2, 3, 8] {
             let mut items: Vec<u64> = (0..1000).collect();
-            let out = in_order(threads, &mut items, |chunk, out| {
+            let out = in_order(&Team::new(threads), &mut items, |chunk, out| {
                 for k in chunk.iter_mut() {
                     out.extend(0..*k % 5);
                     *k += 1;
@@ -169,7 +165,7 @@ mod tests {
     #[test]
     fn the_first_error_in_order_is_returned() {
         let mut items: Vec<u32> = (0..500).collect();
-        let err = in_order(3, &mut items, |chunk, out: &mut Vec<u32>| {
+        let err = in_order(&Team::new(3), &mut items, |chunk, out: &mut Vec<u32>| {
             for &mut k in chunk {
                 if k == 123 || k == 400 {
                     return Err(SimError::InvalidParameter { name: "k", value: k as Real, reason: "test" });

@@ -220,7 +220,7 @@ impl World {
             let mut st = VelocityState::free(&self.bodies, &g, h);
             let fastest = vel0.iter().map(|v| v.norm()).fold(0.0, Real::max);
             let tolerance = (vp.tolerance_factor * eps_p).max(vp.relative_tolerance * fastest);
-            let sol = solve_impulses(&contacts, &targets, &warm, &mut st, tolerance, vp.max_sweeps);
+            let sol = solve_impulses(&contacts, &targets, &warm, &mut st, tolerance, vp.max_sweeps, &pipeline.team);
             report.wall_seconds[2] += clock.elapsed().as_secs_f64();
             // Each body's momenta after the step: gravity's increment plus the contact impulses.
             // A body that no contact pushes flies exactly (a semi-implicit step under gravity

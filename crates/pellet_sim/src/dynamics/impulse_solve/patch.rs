@@ -3,7 +3,7 @@
 //! bounded by the patch's Coulomb torque and a rolling pair bounded by the normal force at
 //! its rim, on the bodies' relative angular velocity.
 
-use super::{onto_disk, Block, NormalTarget, VelocityState};
+use super::{onto_disk, Block, NormalTarget, Velocities, VelocityState};
 use crate::geometry::contact::Contact;
 use crate::math::{Real, Vec3};
 
@@ -63,19 +63,19 @@ impl PatchBlock {
 
     /// Relative angular velocity ω_A − ω_B along row `i`.
     #[inline]
-    fn turn(&self, blk: &Block, st: &VelocityState, i: usize) -> Real {
-        let mut w = blk.dir[i].dot(&st.w[blk.a]);
+    fn turn(&self, blk: &Block, st: &mut impl Velocities, i: usize) -> Real {
+        let mut w = blk.dir[i].dot(st.w(blk.a));
         if blk.b != usize::MAX {
-            w -= blk.dir[i].dot(&st.w[blk.b]);
+            w -= blk.dir[i].dot(st.w(blk.b));
         }
         w
     }
 
     #[inline]
-    pub(super) fn apply(&self, blk: &Block, st: &mut VelocityState, i: usize, dl: Real) {
-        st.w[blk.a] += self.wa[i] * dl;
+    pub(super) fn apply(&self, blk: &Block, st: &mut impl Velocities, i: usize, dl: Real) {
+        *st.w(blk.a) += self.wa[i] * dl;
         if blk.b != usize::MAX {
-            st.w[blk.b] -= self.wb[i] * dl;
+            *st.w(blk.b) -= self.wb[i] * dl;
         }
     }
 
@@ -92,7 +92,7 @@ impl PatchBlock {
     pub(super) fn visit(
         &self,
         blk: &Block,
-        st: &mut VelocityState,
+        st: &mut impl Velocities,
         l: &mut [Real; 3],
         ln: Real,
         negligible: Real,

@@ -1,0 +1,328 @@
+//! The Gauss–Seidel sweeps of the impulse solve over the slabs' tasks (`slabs`), on one thread
+//! or several: each half sweep's tasks share no body, so whichever thread runs a task, and in
+//! whatever order, the answer is the serial one bit for bit.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use super::slabs::Layout;
+use super::{onto_disk, Block, ImpulseSolution, NormalTarget, PatchBlock, Velocities, VelocityState, WarmStart};
+use crate::geometry::contact::Contact;
+use crate::math::{Real, Vec3};
+use crate::team::Team;
+
+/// Fewest contacts a solve hands to more than one thread: below, a half sweep's work is
+/// shorter than the wait for the other thread.
+pub(super) const MIN_PARALLEL_CONTACTS: usize = 128;
+
+/// A slab's bodies: their velocities and, per body, how often a block has changed them.
+#[derive(Debug, Default)]
+struct Bodies {
+    v: Vec<Vec3>,
+    w: Vec<Vec3>,
+    version: Vec<u64>,
+}
+
+/// The two slabs a task works on: indices below `split` are the lower slab's.
+struct View<'a> {
+    lo: &'a mut Bodies,
+    hi: &'a mut Bodies,
+    split: usize,
+}
+
+impl View<'_> {
+    #[inline]
+    fn version(&mut self, i: usize) -> &mut u64 {
+        if i < self.split {
+            &mut self.lo.version[i]
+        } else {
+            &mut self.hi.version[i - self.split]
+        }
+    }
+}
+
+impl Velocities for View<'_> {
+    #[inline]
+    fn v(&mut self, i: usize) -> &mut Vec3 {
+        if i < self.split {
+            &mut self.lo.v[i]
+        } else {
+            &mut self.hi.v[i - self.split]
+        }
+    }
+    #[inline]
+    fn w(&mut self, i: usize) -> &mut Vec3 {
+        if i < self.split {
+            &mut self.lo.w[i]
+        } else {
+            &mut self.hi.w[i - self.split]
+        }
+    }
+}
+
+/// One slab's contacts: their blocks (bodies as indices of the task's `View`), impulses, and
+/// the skip test's records.
+#[derive(Debug, Default)]
+struct Task {
+    /// The contacts' indices in the solve.
+    ids: Vec<usize>,
+    blocks: Vec<Block>,
+    patches: Vec<Option<PatchBlock>>,
+    ln: Vec<Real>,
+    lt: Vec<[Real; 2]>,
+    lw: Vec<[Real; 3]>,
+    /// The block's last visit changed nothing that counts...
+    quiet: Vec<bool>,
+    /// ...and its bodies' versions after it: a quiet block whose bodies nobody has changed
+    /// since would change nothing again, and is passed by. In a bed at rest most blocks are.
+    seen: Vec<[u64; 2]>,
+}
+
+/// The solve's state, by slab and task.
+pub(super) struct Solve {
+    slabs: Vec<Mutex<Bodies>>,
+    tasks: Vec<Mutex<Task>>,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+impl Solve {
+    /// The blocks of `contacts` by task, the velocities `st` by slab, and the `warm` impulses
+    /// applied to them, task by task.
+    pub fn new(
+        layout: &Layout,
+        contacts: &[Contact],
+        targets: &[NormalTarget],
+        warm: &[WarmStart],
+        st: &VelocityState,
+    ) -> Self {
+        let mut slabs: Vec<Bodies> = layout
+            .slabs
+            .iter()
+            .map(|ids| Bodies {
+                v: ids.iter().map(|&i| st.v[i]).collect(),
+                w: ids.iter().map(|&i| st.w[i]).collect(),
+                version: vec![0; ids.len()],
+            })
+            .collect();
+        let mut tasks = Vec::with_capacity(layout.tasks.len());
+        let mut empty = Bodies::default();
+        for (s, ids) in layout.tasks.iter().enumerate() {
+            let split = layout.slabs[s].len();
+            let local = |i: usize| {
+                let (slab, k) = layout.place[i];
+                k as usize + if slab as usize == s { 0 } else { split }
+            };
+            let (lower, upper) = slabs.split_at_mut(s + 1);
+            let mut view = View { lo: &mut lower[s], hi: upper.first_mut().unwrap_or(&mut empty), split };
+            let mut task = Task { ids: ids.clone(), ..Task::default() };
+            for &k in ids {
+                let (c, w) = (&contacts[k], &warm[k]);
+                let mut blk = Block::new(c, st, &targets[k]);
+                let patch = PatchBlock::new(c, &blk, st, &targets[k]);
+                blk.a = local(c.a);
+                if let Some(j) = c.b_body() {
+                    blk.b = local(j);
+                }
+                let (n0, f0) = (w.normal.max(0.0), w.friction);
+                let mut l = [0.0; 3];
+                if let Some(p) = &patch {
+                    l = blk.dir.map(|d| d.dot(&w.torque));
+                    p.clamp(&mut l, n0);
+                    for (i, &li) in l.iter().enumerate() {
+                        p.apply(&blk, &mut view, i, li);
+                    }
+                }
+                let t = onto_disk([f0.dot(&blk.dir[1]), f0.dot(&blk.dir[2])], blk.mu * n0);
+                blk.apply(&mut view, 0, n0);
+                blk.apply(&mut view, 1, t[0]);
+                blk.apply(&mut view, 2, t[1]);
+                task.blocks.push(blk);
+                task.patches.push(patch);
+                task.ln.push(n0);
+                task.lt.push(t);
+                task.lw.push(l);
+            }
+            task.quiet = vec![false; ids.len()];
+            task.seen = vec![[0; 2]; ids.len()];
+            tasks.push(Mutex::new(task));
+        }
+        Self { slabs: slabs.into_iter().map(Mutex::new).collect(), tasks: tasks.into_iter().collect() }
+    }
+
+    /// One visit of task `s`'s blocks; the largest change of a relative velocity, m/s.
+    fn visit(&self, s: usize, negligible: Real) -> Real {
+        let mut task = lock(&self.tasks[s]);
+        let mut lo = lock(&self.slabs[s]);
+        let mut empty = Bodies::default();
+        let mut hi_guard = self.slabs.get(s + 1).map(lock);
+        let split = lo.v.len();
+        let hi = hi_guard.as_deref_mut().unwrap_or(&mut empty);
+        task.sweep(&mut View { lo: &mut lo, hi, split }, negligible)
+    }
+
+    /// Sweeps until one changes no relative velocity by more than `tolerance` (m/s), or
+    /// `max_sweeps`; a block's change below `negligible` is not applied. Returns the sweeps,
+    /// the last residual and whether it converged.
+    pub fn run(&mut self, negligible: Real, tolerance: Real, max_sweeps: usize, team: &Team) -> ImpulseSolution {
+        let size = |s: usize| lock(&self.tasks[s]).blocks.len();
+        let halves: [Vec<usize>; 2] =
+            [0, 1].map(|h| (h..self.tasks.len()).step_by(2).filter(|&s| size(s) > 0).collect());
+        let contacts: usize = (0..self.tasks.len()).map(size).sum();
+        let mut sol = ImpulseSolution { converged: contacts == 0, ..ImpulseSolution::default() };
+        if contacts == 0 || max_sweeps == 0 {
+            return sol;
+        }
+        let threads = if contacts < MIN_PARALLEL_CONTACTS { 1 } else { halves[0].len().max(halves[1].len()) };
+        // Each task's change in the sweep, kept for two sweeps: a thread may start the next
+        // sweep while another still reads this one's.
+        let change: [Vec<AtomicU64>; 2] = [0, 1].map(|_| (0..self.tasks.len()).map(|_| AtomicU64::new(0)).collect());
+        // The next task of a half sweep, one counter for each of three half sweeps in a row:
+        // the one two ahead is reset once everybody is done with it.
+        let next: [AtomicU64; 3] = [0, 1, 0].map(|h| AtomicU64::new(ends_of(halves[h].len())));
+        let outcome = Mutex::new((0, 0.0, false));
+        team.run(threads, |thread, barrier| {
+            let mut phase = 0usize;
+            for sweep in 1..=max_sweeps {
+                let buffer = &change[sweep % 2];
+                for half in &halves {
+                    let ends = &next[phase % 3];
+                    while let Some(k) = take(ends, thread % 2 == 1) {
+                        let s = half[k];
+                        buffer[s].store(self.visit(s, negligible).to_bits(), Ordering::Relaxed);
+                    }
+                    barrier.wait();
+                    if thread == 0 {
+                        next[(phase + 2) % 3].store(ends_of(halves[phase % 2].len()), Ordering::Relaxed);
+                    }
+                    phase += 1;
+                }
+                let residual = halves
+                    .iter()
+                    .flatten()
+                    .map(|&s| Real::from_bits(buffer[s].load(Ordering::Relaxed)))
+                    .fold(0.0, Real::max);
+                let converged = residual <= tolerance;
+                if converged || sweep == max_sweeps {
+                    if thread == 0 {
+                        *lock(&outcome) = (sweep, residual, converged);
+                    }
+                    break;
+                }
+            }
+        });
+        (sol.sweeps, sol.residual, sol.converged) = outcome.into_inner().unwrap_or_else(PoisonError::into_inner);
+        sol
+    }
+
+    /// The velocities back into `st`, and the impulses of the solve's `n` contacts into `sol`.
+    pub fn finish(self, layout: &Layout, n: usize, st: &mut VelocityState, sol: &mut ImpulseSolution) {
+        for (slab, ids) in self.slabs.into_iter().zip(&layout.slabs) {
+            let slab = slab.into_inner().unwrap_or_else(PoisonError::into_inner);
+            for ((&i, v), w) in ids.iter().zip(slab.v).zip(slab.w) {
+                st.v[i] = v;
+                st.w[i] = w;
+            }
+        }
+        sol.normal = vec![0.0; n];
+        sol.friction = vec![Vec3::zeros(); n];
+        sol.torque = vec![Vec3::zeros(); n];
+        for task in self.tasks {
+            let task = task.into_inner().unwrap_or_else(PoisonError::into_inner);
+            for (k, &id) in task.ids.iter().enumerate() {
+                let (b, t, l) = (&task.blocks[k], task.lt[k], task.lw[k]);
+                sol.normal[id] = task.ln[k];
+                sol.friction[id] = b.dir[1] * t[0] + b.dir[2] * t[1];
+                sol.torque[id] = b.dir[0] * l[0] + b.dir[1] * l[1] + b.dir[2] * l[2];
+            }
+        }
+    }
+}
+
+/// The untaken tasks of a half sweep, [front, back), packed in one word.
+fn ends_of(len: usize) -> u64 {
+    len as u64
+}
+
+/// Takes the next task of a half sweep from its front or, `from_back`, its back: two threads
+/// work from the two ends towards each other, each mostly on the slabs it had the sweep
+/// before, whose blocks are still in its core's cache.
+fn take(ends: &AtomicU64, from_back: bool) -> Option<usize> {
+    let mut cur = ends.load(Ordering::Relaxed);
+    loop {
+        let (front, back) = (cur >> 32, cur & 0xffff_ffff);
+        if front >= back {
+            return None;
+        }
+        let (new, k) =
+            if from_back { ((front << 32) | (back - 1), back - 1) } else { (((front + 1) << 32) | back, front) };
+        match ends.compare_exchange_weak(cur, new, Ordering::Relaxed, Ordering::Relaxed) {
+            Ok(_) => return Some(k as usize),
+            Err(now) => cur = now,
+        }
+    }
+}
+
+impl Task {
+    /// One Gauss–Seidel visit of each block in order; the largest change of a relative
+    /// velocity, m/s.
+    fn sweep(&mut self, view: &mut View<'_>, negligible: Real) -> Real {
+        let Task { blocks, patches, ln, lt, lw, quiet, seen, .. } = self;
+        let mut change: Real = 0.0;
+        for (k, blk) in blocks.iter().enumerate() {
+            let version_b = |view: &mut View<'_>| if blk.b == usize::MAX { 0 } else { *view.version(blk.b) };
+            if quiet[k] && *view.version(blk.a) == seen[k][0] && version_b(view) == seen[k][1] {
+                continue;
+            }
+            // The normal row, then the tangential pair with the normal change folded into their
+            // relative velocities (K_tn), both written to the bodies in one update.
+            let mut dv: Real = 0.0;
+            let [un, mut u1, mut u2] = blk.speeds(view);
+            let mut delta = [0.0; 3];
+            let new = (ln[k] + (blk.target - un) * blk.inv_knn).max(0.0);
+            let dl = new - ln[k];
+            if dl.abs() * blk.knn > negligible {
+                ln[k] = new;
+                dv = dl.abs() * blk.knn;
+                delta[0] = dl;
+                u1 += blk.kt_n[0] * dl;
+                u2 += blk.kt_n[1] * dl;
+            }
+            let bound = blk.mu * ln[k];
+            let old = lt[k];
+            let t = onto_disk(
+                [
+                    old[0] - (blk.kt_inv[0][0] * u1 + blk.kt_inv[0][1] * u2),
+                    old[1] - (blk.kt_inv[1][0] * u1 + blk.kt_inv[1][1] * u2),
+                ],
+                bound,
+            );
+            let d = [t[0] - old[0], t[1] - old[1]];
+            let dt = (d[0] * d[0] + d[1] * d[1]).sqrt() * blk.kt_trace;
+            if dt > negligible {
+                lt[k] = t;
+                dv = dv.max(dt);
+                delta[1] = d[0];
+                delta[2] = d[1];
+            }
+            if dv > 0.0 {
+                blk.apply_all(view, delta);
+            }
+            if let Some(p) = &patches[k] {
+                dv = dv.max(p.visit(blk, view, &mut lw[k], ln[k], negligible));
+            }
+            quiet[k] = dv == 0.0;
+            if !quiet[k] {
+                *view.version(blk.a) += 1;
+                if blk.b != usize::MAX {
+                    *view.version(blk.b) += 1;
+                }
+            }
+            seen[k] = [*view.version(blk.a), version_b(view)];
+            change = change.max(dv);
+        }
+        change
+    }
+}

@@ -1,0 +1,128 @@
+//! A team of threads kept across steps (`docs/engine.md`, "Threads"): the narrow phase and the
+//! impulse solve run their work on it. Nothing a team does decides a result: its users split
+//! their work so that any thread may take any part of it and the answer is the serial one.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+/// Spins a waiting thread this many times before it yields its core: a phase of the solve
+/// lasts microseconds, longer than the other thread's arrival takes on an idle core, and a
+/// yield lets that thread run where the cores are shared.
+const SPINS_BEFORE_YIELD: u32 = 2_000;
+
+/// `threads` threads: the calling one and, for more than one, a rayon pool of the others,
+/// started once and parked between uses.
+#[derive(Debug, Clone, Default)]
+pub struct Team {
+    threads: usize,
+    pool: Option<Arc<rayon::ThreadPool>>,
+}
+
+impl Team {
+    /// A team of `threads` threads (0 or 1: the calling thread alone). A pool that cannot be
+    /// started leaves the calling thread alone, which gives the same results.
+    pub fn new(threads: usize) -> Self {
+        let threads = threads.max(1);
+        if threads == 1 {
+            return Self { threads, pool: None };
+        }
+        match rayon::ThreadPoolBuilder::new()
+            .num_threads(threads - 1)
+            .thread_name(|k| format!("pellet-sim-{}", k + 1))
+            .build()
+        {
+            Ok(pool) => Self { threads, pool: Some(Arc::new(pool)) },
+            Err(_) => Self { threads: 1, pool: None },
+        }
+    }
+
+    /// Threads in the team (at least 1).
+    pub fn threads(&self) -> usize {
+        self.threads.max(1)
+    }
+
+    /// Runs `work(k, barrier)` on `min(n, threads)` threads at once, k = 0 on the calling
+    /// thread; `barrier` holds each of them until all have reached it.
+    pub fn run(&self, n: usize, work: impl Fn(usize, &Barrier) + Sync) {
+        let n = n.clamp(1, self.threads());
+        let barrier = Barrier::new(n);
+        match &self.pool {
+            Some(pool) if n > 1 => pool.in_place_scope(|scope| {
+                let (work, barrier) = (&work, &barrier);
+                for k in 1..n {
+                    scope.spawn(move |_| work(k, barrier));
+                }
+                work(0, barrier);
+            }),
+            _ => work(0, &barrier),
+        }
+    }
+}
+
+/// A barrier for the threads of one [`Team::run`]: each waits, spinning and then yielding,
+/// until all have arrived.
+pub struct Barrier {
+    n: usize,
+    arrived: AtomicUsize,
+    generation: AtomicUsize,
+}
+
+impl Barrier {
+    fn new(n: usize) -> Self {
+        Self { n, arrived: AtomicUsize::new(0), generation: AtomicUsize::new(0) }
+    }
+
+    /// Waits until all the run's threads have called it as often as this one.
+    pub fn wait(&self) {
+        if self.n == 1 {
+            return;
+        }
+        let generation = self.generation.load(Ordering::Acquire);
+        if self.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.n {
+            // Reset before the release, so that no thread reaches the next wait early.
+            self.arrived.store(0, Ordering::Relaxed);
+            self.generation.fetch_add(1, Ordering::Release);
+            return;
+        }
+        let mut spins = 0u32;
+        while self.generation.load(Ordering::Acquire) == generation {
+            if spins < SPINS_BEFORE_YIELD {
+                spins += 1;
+                std::hint::spin_loop();
+            } else {
+                std::thread::yield_now();
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Mutex;
+
+    /// Every thread sees every other's writes of a round after the barrier that ends it.
+    #[test]
+    fn a_barrier_separates_rounds() {
+        for threads in [1, 2, 3] {
+            let team = Team::new(threads);
+            let slots: Vec<Mutex<u64>> = (0..3).map(|_| Mutex::new(0)).collect();
+            let bad = AtomicUsize::new(0);
+            team.run(3, |k, barrier| {
+                for round in 1..=200u64 {
+                    if k < slots.len() {
+                        *slots[k].lock().unwrap() = round;
+                    }
+                    barrier.wait();
+                    for (j, s) in slots.iter().enumerate().take(team.threads().min(3)) {
+                        if *s.lock().unwrap() != round {
+                            bad.fetch_add(1 + j, Ordering::Relaxed);
+                        }
+                    }
+                    barrier.wait();
+                }
+            });
+            assert_eq!(bad.load(Ordering::Relaxed), 0, "{threads} threads");
+        }
+    }
+}
