@@ -3,12 +3,20 @@
 //! their work so that any thread may take any part of it and the answer is the serial one.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// Spins a waiting thread this many times before it yields its core: a phase of the solve
 /// lasts microseconds, longer than the other thread's arrival takes on an idle core, and a
 /// yield lets that thread run where the cores are shared.
 const SPINS_BEFORE_YIELD: u32 = 2_000;
+
+/// Fewest items in a chunk of [`Team::in_order`]: a bed of a few pellets stays on the calling
+/// thread, where waking another would cost more than its share of the work.
+const MIN_CHUNK: usize = 16;
+
+/// Chunks per thread of [`Team::in_order`]: items differ in cost (a sphere pair is closed form,
+/// a ring pair samples hundreds of points), so the work is handed out in a few chunks a thread.
+const CHUNKS_PER_THREAD: usize = 4;
 
 /// `threads` threads: the calling one and, for more than one, a rayon pool of the others,
 /// started once and parked between uses.
@@ -57,6 +65,44 @@ impl Team {
             _ => work(0, &barrier),
         }
     }
+
+    /// What `work` appends for `items`, on the team's threads: the items are split into chunks
+    /// in order (at least `MIN_CHUNK` items, up to `CHUNKS_PER_THREAD` a thread; a thread that
+    /// is done takes the next), each chunk's output is kept apart, and the outputs are joined
+    /// in chunk order, so the result is the serial one whichever thread ran which chunk. An
+    /// error is the first in that order (a chunk stops at its first, as the serial loop does).
+    pub(crate) fn in_order<T: Send, R: Send, E: Send>(
+        &self,
+        items: &mut [T],
+        work: impl Fn(&mut [T], &mut Vec<R>) -> Result<(), E> + Sync,
+    ) -> Result<Vec<R>, E> {
+        let chunks = (items.len() / MIN_CHUNK).clamp(1, self.threads() * CHUNKS_PER_THREAD);
+        let workers = self.threads().clamp(1, chunks);
+        if workers == 1 {
+            let mut out = Vec::with_capacity(items.len());
+            work(items, &mut out)?;
+            return Ok(out);
+        }
+        let size = items.len().div_ceil(chunks);
+        type Slot<'a, T, R, E> = Mutex<(&'a mut [T], Vec<R>, Result<(), E>)>;
+        let slots: Vec<Slot<'_, T, R, E>> =
+            items.chunks_mut(size).map(|c| Mutex::new((c, Vec::with_capacity(size), Ok(())))).collect();
+        let next = AtomicUsize::new(0);
+        self.run(workers, |_, _| {
+            while let Some(slot) = slots.get(next.fetch_add(1, Ordering::Relaxed)) {
+                let mut slot = slot.lock().unwrap_or_else(PoisonError::into_inner);
+                let (chunk, out, result) = &mut *slot;
+                *result = work(chunk, out);
+            }
+        });
+        let parts: Vec<_> = slots.into_iter().map(|s| s.into_inner().unwrap_or_else(PoisonError::into_inner)).collect();
+        let mut joined = Vec::with_capacity(parts.iter().map(|(_, out, _)| out.len()).sum());
+        for (_, out, result) in parts {
+            result?;
+            joined.extend(out);
+        }
+        Ok(joined)
+    }
 }
 
 /// A barrier for the threads of one [`Team::run`]: each waits, spinning and then yielding,
@@ -99,7 +145,6 @@ impl Barrier {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::Mutex;
 
     /// Every thread sees every other's writes of a round after the barrier that ends it.
     #[test]
@@ -124,5 +169,41 @@ mod tests {
             });
             assert_eq!(bad.load(Ordering::Relaxed), 0, "{threads} threads");
         }
+    }
+
+    #[test]
+    fn chunks_are_joined_in_order_for_any_thread_count() {
+        let serial: Vec<u64> = (0..1000u64).flat_map(|k| 0..k % 5).collect();
+        for threads in [1, 2, 3, 8] {
+            let mut items: Vec<u64> = (0..1000).collect();
+            let out = Team::new(threads)
+                .in_order(&mut items, |chunk, out| {
+                    for k in chunk.iter_mut() {
+                        out.extend(0..*k % 5);
+                        *k += 1;
+                    }
+                    Ok::<(), ()>(())
+                })
+                .unwrap();
+            assert_eq!(out, serial, "{threads} threads");
+            assert!(items.iter().enumerate().all(|(k, &v)| v == k as u64 + 1), "each item once");
+        }
+    }
+
+    #[test]
+    fn the_first_error_in_order_is_returned() {
+        let mut items: Vec<u32> = (0..500).collect();
+        let err = Team::new(3)
+            .in_order(&mut items, |chunk, out: &mut Vec<u32>| {
+                for &mut k in chunk {
+                    if k == 123 || k == 400 {
+                        return Err(k);
+                    }
+                    out.push(k);
+                }
+                Ok(())
+            })
+            .unwrap_err();
+        assert_eq!(err, 123);
     }
 }

@@ -276,9 +276,10 @@ pub fn solve_impulses(
 ) -> ImpulseSolution {
     let relative_before: Vec<Vec3> = contacts.iter().map(|c| st.relative(c)).collect();
     let layout = slabs::Layout::new(contacts, &st.height);
-    let mut solve = sweep::Solve::new(&layout, contacts, targets, warm, st);
-    let mut sol = solve.run(QUIET_FRACTION * tolerance, tolerance, max_sweeps, team);
-    solve.finish(&layout, contacts.len(), st, &mut sol);
+    let solve = sweep::Solve::new(&layout, st);
+    let problem = sweep::Problem { contacts, targets, warm, st };
+    let mut sol = solve.run(&problem, QUIET_FRACTION * tolerance, tolerance, max_sweeps, team);
+    solve.finish(contacts.len(), st, &mut sol);
     sol.relative_after = contacts.iter().map(|c| st.relative(c)).collect();
     sol.relative_before = relative_before;
     sol

@@ -6,6 +6,7 @@ use super::rows::{BodyMass, Row};
 use crate::body::Body;
 use crate::geometry::contact::Contact;
 use crate::math::{turn_angle, Quat, Real, Vec3};
+use crate::team::Team;
 
 /// Relaxation factor of one projection.
 const BETA: Real = 0.8;
@@ -28,7 +29,7 @@ pub struct ProjectionStats {
 }
 
 /// Re-evaluates a contact at the bodies' current poses (the narrow phase for that pair).
-pub type ContactEval<'a> = dyn Fn(&[Body], &Contact) -> Option<Contact> + 'a;
+pub type ContactEval<'a> = dyn Fn(&[Body], &Contact) -> Option<Contact> + Sync + 'a;
 
 /// How far a contact's gap can fall while its bodies move, so that a contact known to stay
 /// open is not evaluated again: the gap falls by at most `lipschitz` · Σ (|Δx_k| + `lever[k]` ·
@@ -49,7 +50,8 @@ pub struct GapBounds {
 /// Projects positions. `contacts` were generated with the bodies at the poses of `generated_at`
 /// (the substep's start, before integration moved them to `bodies`). `max_step` caps one
 /// correction's displacement (≈ 0.01 d). `bounds` lets a contact whose gap provably stays
-/// positive go without re-evaluation: the same corrections.
+/// positive go without re-evaluation: the same corrections. The first evaluations of the
+/// contacts run on `team`'s threads, with the same answer for any number of them.
 #[allow(clippy::too_many_arguments)]
 pub fn project_positions(
     bodies: &mut [Body],
@@ -60,6 +62,7 @@ pub fn project_positions(
     slop: Real,
     max_step: Real,
     gravity: &Vec3,
+    team: &Team,
 ) -> ProjectionStats {
     let mut st = ProjectionStats::default();
     // A contact's gap is a function of its two bodies' poses only, so it is evaluated again
@@ -81,6 +84,7 @@ pub fn project_positions(
         slot: vec![NO_ENTRY; contacts.len()],
         entries: Vec::new(),
     };
+    cache.first_evaluations(bodies, team);
     st.max_penetration_before = cache.max_penetration(bodies, &moves);
     if st.max_penetration_before <= slop {
         st.max_penetration_after = st.max_penetration_before;
@@ -212,6 +216,37 @@ impl ContactCache<'_, '_> {
         self.entries[self.slot[i] as usize].contact.as_ref()
     }
 
+    /// Evaluates at the current poses, on `team`'s threads, every contact that the first
+    /// penetration pass would evaluate (those whose gap may have closed since the narrow phase),
+    /// and keeps them as that pass would: the same entries for any number of threads. The
+    /// evaluations are the projection's main cost in beds of non-spheres (a feature's narrow
+    /// phase each).
+    fn first_evaluations(&mut self, bodies: &[Body], team: &Team) {
+        if team.threads() < 2 || !self.entries.is_empty() {
+            return;
+        }
+        let mut due: Vec<usize> = (0..self.contacts.len())
+            .filter(|&i| {
+                let c = &self.contacts[i];
+                let b = c.b_body();
+                let drift = self.drift[c.a] + b.map_or(0.0, |b| self.drift[b]);
+                let jump = self.bounds.jump[c.a] + b.map_or(0.0, |b| self.bounds.jump[b]);
+                c.gap - (self.bounds.lipschitz * drift + jump) <= 0.0
+            })
+            .collect();
+        let (eval, contacts) = (self.eval, self.contacts);
+        let Ok(found) = team.in_order(&mut due, |chunk, out| {
+            out.extend(chunk.iter().map(|&i| eval(bodies, &contacts[i])));
+            Ok::<(), std::convert::Infallible>(())
+        });
+        for (&i, contact) in due.iter().zip(found) {
+            let c = &contacts[i];
+            let drift = (self.drift[c.a], c.b_body().map_or(0.0, |b| self.drift[b]));
+            self.slot[i] = self.entries.len() as u32;
+            self.entries.push(CachedContact { stamp: (0, 0), drift, contact });
+        }
+    }
+
     fn max_penetration(&mut self, bodies: &[Body], moves: &[u32]) -> Real {
         (0..self.contacts.len())
             .filter_map(|i| self.contact(bodies, moves, i).map(|c| c.gap))
@@ -226,7 +261,7 @@ mod tests {
     use crate::body::TypeId;
     use crate::geometry::contact_sphere_sphere::sphere_sphere;
     use crate::math::Mat3;
-    use std::cell::Cell;
+    use std::sync::atomic::{AtomicUsize, Ordering};
 
     const R: Real = 0.005;
 
@@ -264,6 +299,7 @@ mod tests {
         moved: &[Body],
         told: &[Body],
         bounds: &GapBounds,
+        team: &Team,
     ) -> (Vec<Body>, ProjectionStats, usize) {
         let contacts: Vec<Contact> = (0..generated.len() - 1)
             .filter_map(|k| {
@@ -271,16 +307,25 @@ mod tests {
                 sphere_sphere(k + 1, &a.position, R, k, &b.position, R, 1.0)
             })
             .collect();
-        let evaluations = Cell::new(0);
+        let evaluations = AtomicUsize::new(0);
         let eval = |bodies: &[Body], c: &Contact| {
-            evaluations.set(evaluations.get() + 1);
+            evaluations.fetch_add(1, Ordering::Relaxed);
             let b = c.b_body().unwrap();
             sphere_sphere(c.a, &bodies[c.a].position, R, b, &bodies[b].position, R, Real::INFINITY)
         };
         let mut bodies = moved.to_vec();
-        let st =
-            project_positions(&mut bodies, &contacts, told, &eval, bounds, 1e-6, 1e-4, &Vec3::new(0.0, 0.0, -9.81));
-        (bodies, st, evaluations.get())
+        let st = project_positions(
+            &mut bodies,
+            &contacts,
+            told,
+            &eval,
+            bounds,
+            1e-6,
+            1e-4,
+            &Vec3::new(0.0, 0.0, -9.81),
+            team,
+        );
+        (bodies, st, evaluations.into_inner())
     }
 
     /// Skipping contacts the narrow phase found open by more than their bodies moved since
@@ -311,15 +356,20 @@ mod tests {
         let n = generated.len();
         let never = GapBounds { lipschitz: 1.0, lever: vec![3.0 * R; n], jump: vec![Real::INFINITY; n] };
         let skip = GapBounds { lipschitz: 1.0, lever: vec![3.0 * R; n], jump: vec![0.0; n] };
-        let (reference, st_ref, evals_ref) = project(&generated, &moved, &generated, &never);
+        let (reference, st_ref, evals_ref) = project(&generated, &moved, &generated, &never, &Team::default());
         assert!(st_ref.max_penetration_before > 1e-6 && st_ref.corrections > 0);
-        let (skipped, st_skip, evals_skip) = project(&generated, &moved, &generated, &skip);
+        let (skipped, st_skip, evals_skip) = project(&generated, &moved, &generated, &skip, &Team::default());
+        // The first evaluations on threads: the same projection.
+        for threads in [2, 3] {
+            let (on_threads, st_threads, _) = project(&generated, &moved, &generated, &never, &Team::new(threads));
+            assert_eq!((on_threads, st_threads), (reference.clone(), st_ref), "{threads} threads");
+        }
         assert_eq!(skipped, reference);
         assert_eq!(st_skip, st_ref);
         assert!(evals_skip < evals_ref, "nothing skipped: {evals_skip} evaluations against {evals_ref}");
         // Told that nothing moved since the narrow phase, the 8 and 3 µm gaps that closed to
         // −4 and −9 µm are taken as still open.
-        let (wrong, st_wrong, _) = project(&generated, &moved, &moved, &skip);
+        let (wrong, st_wrong, _) = project(&generated, &moved, &moved, &skip, &Team::default());
         assert_ne!(wrong, reference);
         assert!(st_wrong.max_penetration_before < st_ref.max_penetration_before);
     }

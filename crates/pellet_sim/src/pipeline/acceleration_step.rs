@@ -147,7 +147,9 @@ impl World {
                 friction_work += ff.dot(&mean) * dt;
                 normal_work += fnormal * c.normal.dot(&mean) * dt;
             }
-            let Some(proj) = self.project_or_rewind(&contacts, &pipeline.saved, &bounds, &mut rewinds, report)? else {
+            let Some(proj) =
+                self.project_or_rewind(&contacts, &pipeline.saved, &bounds, &mut rewinds, &pipeline.team, report)?
+            else {
                 dt *= 0.5;
                 continue;
             };

@@ -16,6 +16,7 @@ use crate::geometry::sdf::lipschitz;
 use crate::math::Real;
 use crate::params::Stepper;
 use crate::shape::{BodyType, ShapeDesc};
+use crate::team::Team;
 
 impl World {
     /// The projection's bounds on how fast a gap can close (`GapBounds`): a point a gap is
@@ -61,6 +62,7 @@ impl World {
         contacts: &[Contact],
         generated_at: &[Body],
         bounds: &GapBounds,
+        team: &Team,
         report: &mut StepReport,
     ) -> ProjectionStats {
         let d = self.reference_size();
@@ -79,7 +81,7 @@ impl World {
         };
         let mut bodies = std::mem::take(&mut self.bodies);
         let clock = std::time::Instant::now();
-        let proj = project_positions(&mut bodies, contacts, generated_at, &eval, bounds, slop, 0.01 * d, &g);
+        let proj = project_positions(&mut bodies, contacts, generated_at, &eval, bounds, slop, 0.01 * d, &g, team);
         report.wall_seconds[3] += clock.elapsed().as_secs_f64();
         self.bodies = bodies;
         proj
@@ -95,10 +97,11 @@ impl World {
         saved: &[Body],
         bounds: &GapBounds,
         rewinds: &mut u32,
+        team: &Team,
         report: &mut StepReport,
     ) -> Result<Option<ProjectionStats>, SimError> {
         let pen_max = self.params.max_penetration_factor * self.nominal_size();
-        let proj = self.project(contacts, saved, bounds, report);
+        let proj = self.project(contacts, saved, bounds, team, report);
         if proj.max_penetration_before > pen_max && *rewinds < self.params.max_rewinds {
             self.bodies.clone_from_slice(saved);
             *rewinds += 1;

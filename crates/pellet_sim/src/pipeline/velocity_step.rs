@@ -256,7 +256,9 @@ impl World {
                     rot_steps += advance(b, &(g * b.mass), &Vec3::zeros(), h, max_rot) as u64;
                 }
             }
-            let Some(proj) = self.project_or_rewind(&contacts, &pipeline.saved, &bounds, &mut rewinds, report)? else {
+            let Some(proj) =
+                self.project_or_rewind(&contacts, &pipeline.saved, &bounds, &mut rewinds, &pipeline.team, report)?
+            else {
                 h *= 0.5;
                 continue;
             };

@@ -2,7 +2,7 @@
 //! or several: each half sweep's tasks share no body, so whichever thread runs a task, and in
 //! whatever order, the answer is the serial one bit for bit.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use super::slabs::Layout;
@@ -79,7 +79,8 @@ struct Task {
 }
 
 /// The solve's state, by slab and task.
-pub(super) struct Solve {
+pub(super) struct Solve<'a> {
+    layout: &'a Layout,
     slabs: Vec<Mutex<Bodies>>,
     tasks: Vec<Mutex<Task>>,
 }
@@ -88,116 +89,143 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-impl Solve {
-    /// The blocks of `contacts` by task, the velocities `st` by slab, and the `warm` impulses
-    /// applied to them, task by task.
-    pub fn new(
-        layout: &Layout,
-        contacts: &[Contact],
-        targets: &[NormalTarget],
-        warm: &[WarmStart],
-        st: &VelocityState,
-    ) -> Self {
-        let mut slabs: Vec<Bodies> = layout
+/// What a solve starts from: the contacts, their targets and warm starts, and the bodies'
+/// free velocities and masses.
+pub(super) struct Problem<'a> {
+    pub contacts: &'a [Contact],
+    pub targets: &'a [NormalTarget],
+    pub warm: &'a [WarmStart],
+    pub st: &'a VelocityState,
+}
+
+impl<'a> Solve<'a> {
+    /// The velocities of `st` by slab of `layout`, and an empty task per slab.
+    pub fn new(layout: &'a Layout, st: &VelocityState) -> Self {
+        let slabs = layout
             .slabs
             .iter()
-            .map(|ids| Bodies {
-                v: ids.iter().map(|&i| st.v[i]).collect(),
-                w: ids.iter().map(|&i| st.w[i]).collect(),
-                version: vec![0; ids.len()],
+            .map(|ids| {
+                Mutex::new(Bodies {
+                    v: ids.iter().map(|&i| st.v[i]).collect(),
+                    w: ids.iter().map(|&i| st.w[i]).collect(),
+                    version: vec![0; ids.len()],
+                })
             })
             .collect();
-        let mut tasks = Vec::with_capacity(layout.tasks.len());
-        let mut empty = Bodies::default();
-        for (s, ids) in layout.tasks.iter().enumerate() {
-            let split = layout.slabs[s].len();
-            let local = |i: usize| {
-                let (slab, k) = layout.place[i];
-                k as usize + if slab as usize == s { 0 } else { split }
-            };
-            let (lower, upper) = slabs.split_at_mut(s + 1);
-            let mut view = View { lo: &mut lower[s], hi: upper.first_mut().unwrap_or(&mut empty), split };
-            let mut task = Task { ids: ids.clone(), ..Task::default() };
-            for &k in ids {
-                let (c, w) = (&contacts[k], &warm[k]);
-                let mut blk = Block::new(c, st, &targets[k]);
-                let patch = PatchBlock::new(c, &blk, st, &targets[k]);
-                blk.a = local(c.a);
-                if let Some(j) = c.b_body() {
-                    blk.b = local(j);
-                }
-                let (n0, f0) = (w.normal.max(0.0), w.friction);
-                let mut l = [0.0; 3];
-                if let Some(p) = &patch {
-                    l = blk.dir.map(|d| d.dot(&w.torque));
-                    p.clamp(&mut l, n0);
-                    for (i, &li) in l.iter().enumerate() {
-                        p.apply(&blk, &mut view, i, li);
-                    }
-                }
-                let t = onto_disk([f0.dot(&blk.dir[1]), f0.dot(&blk.dir[2])], blk.mu * n0);
-                blk.apply(&mut view, 0, n0);
-                blk.apply(&mut view, 1, t[0]);
-                blk.apply(&mut view, 2, t[1]);
-                task.blocks.push(blk);
-                task.patches.push(patch);
-                task.ln.push(n0);
-                task.lt.push(t);
-                task.lw.push(l);
-            }
-            task.quiet = vec![false; ids.len()];
-            task.seen = vec![[0; 2]; ids.len()];
-            tasks.push(Mutex::new(task));
-        }
-        Self { slabs: slabs.into_iter().map(Mutex::new).collect(), tasks: tasks.into_iter().collect() }
+        Self { layout, slabs, tasks: layout.tasks.iter().map(|_| Mutex::new(Task::default())).collect() }
     }
 
-    /// One visit of task `s`'s blocks; the largest change of a relative velocity, m/s.
-    fn visit(&self, s: usize, negligible: Real) -> Real {
+    /// Task `s`'s blocks (bodies by index of the task's `View`) and their starting impulses,
+    /// the warm start clamped to the blocks' bounds. Reads the bodies' masses only.
+    fn build(&self, s: usize, problem: &Problem<'_>) {
+        let ids = &self.layout.tasks[s];
+        let split = self.layout.slabs[s].len();
+        let local = |i: usize| {
+            let (slab, k) = self.layout.place[i];
+            k as usize + if slab as usize == s { 0 } else { split }
+        };
+        let mut task = Task { ids: ids.clone(), ..Task::default() };
+        for &k in ids {
+            let (c, w, target) = (&problem.contacts[k], &problem.warm[k], &problem.targets[k]);
+            let mut blk = Block::new(c, problem.st, target);
+            let patch = PatchBlock::new(c, &blk, problem.st, target);
+            blk.a = local(c.a);
+            if let Some(j) = c.b_body() {
+                blk.b = local(j);
+            }
+            let n0 = w.normal.max(0.0);
+            let mut l = [0.0; 3];
+            if let Some(p) = &patch {
+                l = blk.dir.map(|d| d.dot(&w.torque));
+                p.clamp(&mut l, n0);
+            }
+            task.lt.push(onto_disk([w.friction.dot(&blk.dir[1]), w.friction.dot(&blk.dir[2])], blk.mu * n0));
+            task.blocks.push(blk);
+            task.patches.push(patch);
+            task.ln.push(n0);
+            task.lw.push(l);
+        }
+        task.quiet = vec![false; ids.len()];
+        task.seen = vec![[0; 2]; ids.len()];
+        *lock(&self.tasks[s]) = task;
+    }
+
+    /// `f` on task `s` and the view of its two slabs.
+    fn with_view<R>(&self, s: usize, f: impl FnOnce(&mut Task, &mut View<'_>) -> R) -> R {
         let mut task = lock(&self.tasks[s]);
         let mut lo = lock(&self.slabs[s]);
         let mut empty = Bodies::default();
         let mut hi_guard = self.slabs.get(s + 1).map(lock);
         let split = lo.v.len();
         let hi = hi_guard.as_deref_mut().unwrap_or(&mut empty);
-        task.sweep(&mut View { lo: &mut lo, hi, split }, negligible)
+        f(&mut task, &mut View { lo: &mut lo, hi, split })
     }
 
-    /// Sweeps until one changes no relative velocity by more than `tolerance` (m/s), or
-    /// `max_sweeps`; a block's change below `negligible` is not applied. Returns the sweeps,
-    /// the last residual and whether it converged.
-    pub fn run(&mut self, negligible: Real, tolerance: Real, max_sweeps: usize, team: &Team) -> ImpulseSolution {
-        let size = |s: usize| lock(&self.tasks[s]).blocks.len();
-        let halves: [Vec<usize>; 2] =
-            [0, 1].map(|h| (h..self.tasks.len()).step_by(2).filter(|&s| size(s) > 0).collect());
-        let contacts: usize = (0..self.tasks.len()).map(size).sum();
-        let mut sol = ImpulseSolution { converged: contacts == 0, ..ImpulseSolution::default() };
-        if contacts == 0 || max_sweeps == 0 {
-            return sol;
-        }
+    /// Builds the blocks (on the threads), applies their starting impulses (on one), and sweeps
+    /// until a sweep changes no relative velocity by more than `tolerance` (m/s), or
+    /// `max_sweeps`; a block's change below `negligible` is not applied. Returns the sweeps, the
+    /// last residual and whether it converged.
+    pub fn run(
+        &self,
+        problem: &Problem<'_>,
+        negligible: Real,
+        tolerance: Real,
+        max_sweeps: usize,
+        team: &Team,
+    ) -> ImpulseSolution {
+        let sizes: Vec<usize> = self.layout.tasks.iter().map(Vec::len).collect();
+        let halves: [Vec<usize>; 2] = [0, 1].map(|h| (h..sizes.len()).step_by(2).filter(|&s| sizes[s] > 0).collect());
+        let contacts: usize = sizes.iter().sum();
         let threads = if contacts < MIN_PARALLEL_CONTACTS { 1 } else { halves[0].len().max(halves[1].len()) };
         // Each task's change in the sweep, kept for two sweeps: a thread may start the next
         // sweep while another still reads this one's.
-        let change: [Vec<AtomicU64>; 2] = [0, 1].map(|_| (0..self.tasks.len()).map(|_| AtomicU64::new(0)).collect());
+        let change: [Vec<AtomicU64>; 2] = [0, 1].map(|_| sizes.iter().map(|_| AtomicU64::new(0)).collect());
         // The next task of a half sweep, one counter for each of three half sweeps in a row:
         // the one two ahead is reset once everybody is done with it.
         let next: [AtomicU64; 3] = [0, 1, 0].map(|h| AtomicU64::new(ends_of(halves[h].len())));
-        let outcome = Mutex::new((0, 0.0, false));
+        let built = AtomicUsize::new(0);
+        let outcome = Mutex::new((0, 0.0, contacts == 0));
         team.run(threads, |thread, barrier| {
+            // The blocks, every task at once: they write no velocity.
+            loop {
+                let s = built.fetch_add(1, Ordering::Relaxed);
+                match sizes.get(s) {
+                    Some(&size) if size > 0 => self.build(s, problem),
+                    Some(_) => {}
+                    None => break,
+                }
+            }
+            barrier.wait();
             let mut phase = 0usize;
+            let mut half_sweep = |half: &[usize], task: &dyn Fn(usize)| {
+                let ends = &next[phase % 3];
+                while let Some(k) = take(ends, thread % 2 == 1) {
+                    task(half[k]);
+                }
+                barrier.wait();
+                if thread == 0 {
+                    next[(phase + 2) % 3].store(ends_of(halves[phase % 2].len()), Ordering::Relaxed);
+                }
+                phase += 1;
+            };
+            // The warm starts in task order, on one thread: cheap, and in the halves' order some
+            // beds came to rest with fewer solves converged (docs/engine.md, Threads).
+            if thread == 0 {
+                for s in 0..sizes.len() {
+                    self.with_view(s, |task, view| task.warm_start(view));
+                }
+            }
+            barrier.wait();
             for sweep in 1..=max_sweeps {
+                if contacts == 0 {
+                    break;
+                }
                 let buffer = &change[sweep % 2];
                 for half in &halves {
-                    let ends = &next[phase % 3];
-                    while let Some(k) = take(ends, thread % 2 == 1) {
-                        let s = half[k];
-                        buffer[s].store(self.visit(s, negligible).to_bits(), Ordering::Relaxed);
-                    }
-                    barrier.wait();
-                    if thread == 0 {
-                        next[(phase + 2) % 3].store(ends_of(halves[phase % 2].len()), Ordering::Relaxed);
-                    }
-                    phase += 1;
+                    half_sweep(half, &|s| {
+                        let dv = self.with_view(s, |task, view| task.sweep(view, negligible));
+                        buffer[s].store(dv.to_bits(), Ordering::Relaxed);
+                    });
                 }
                 let residual = halves
                     .iter()
@@ -213,13 +241,13 @@ impl Solve {
                 }
             }
         });
-        (sol.sweeps, sol.residual, sol.converged) = outcome.into_inner().unwrap_or_else(PoisonError::into_inner);
-        sol
+        let (sweeps, residual, converged) = outcome.into_inner().unwrap_or_else(PoisonError::into_inner);
+        ImpulseSolution { sweeps, residual, converged, ..ImpulseSolution::default() }
     }
 
     /// The velocities back into `st`, and the impulses of the solve's `n` contacts into `sol`.
-    pub fn finish(self, layout: &Layout, n: usize, st: &mut VelocityState, sol: &mut ImpulseSolution) {
-        for (slab, ids) in self.slabs.into_iter().zip(&layout.slabs) {
+    pub fn finish(self, n: usize, st: &mut VelocityState, sol: &mut ImpulseSolution) {
+        for (slab, ids) in self.slabs.into_iter().zip(&self.layout.slabs) {
             let slab = slab.into_inner().unwrap_or_else(PoisonError::into_inner);
             for ((&i, v), w) in ids.iter().zip(slab.v).zip(slab.w) {
                 st.v[i] = v;
@@ -266,6 +294,20 @@ fn take(ends: &AtomicU64, from_back: bool) -> Option<usize> {
 }
 
 impl Task {
+    /// Applies the blocks' starting impulses to the bodies.
+    fn warm_start(&mut self, view: &mut View<'_>) {
+        for (k, blk) in self.blocks.iter().enumerate() {
+            if let Some(p) = &self.patches[k] {
+                for (i, &li) in self.lw[k].iter().enumerate() {
+                    p.apply(blk, view, i, li);
+                }
+            }
+            blk.apply(view, 0, self.ln[k]);
+            blk.apply(view, 1, self.lt[k][0]);
+            blk.apply(view, 2, self.lt[k][1]);
+        }
+    }
+
     /// One Gauss–Seidel visit of each block in order; the largest change of a relative
     /// velocity, m/s.
     fn sweep(&mut self, view: &mut View<'_>, negligible: Real) -> Real {
