@@ -243,18 +243,29 @@ impl World {
                     dl[b] -= c.lever_b.cross(&j) + sol.torque[k];
                 }
             }
+            // Each body on its own, on the pipeline's threads; the energy summed in body order.
+            let mut bodies: Vec<(usize, &mut Body)> = self.bodies.iter_mut().enumerate().collect();
+            let Ok(moved) = pipeline.team.in_order(&mut bodies, |chunk, out| {
+                for (k, b) in chunk.iter_mut() {
+                    out.push(if touched[*k] {
+                        let v_before = b.velocity();
+                        b.linear_momentum += g * (b.mass * h) + dp[*k];
+                        b.angular_momentum += dl[*k];
+                        let work = 0.5 * b.mass * h * g.dot(&(b.velocity() - v_before));
+                        (Some(work), advance(b, &Vec3::zeros(), &Vec3::zeros(), h, max_rot) as u64)
+                    } else {
+                        (None, advance(b, &(g * b.mass), &Vec3::zeros(), h, max_rot) as u64)
+                    });
+                }
+                Ok::<(), std::convert::Infallible>(())
+            });
             let mut integrator = 0.0;
             let mut rot_steps = 0u64;
-            for (k, b) in self.bodies.iter_mut().enumerate() {
-                if touched[k] {
-                    let v_before = b.velocity();
-                    b.linear_momentum += g * (b.mass * h) + dp[k];
-                    b.angular_momentum += dl[k];
-                    integrator += 0.5 * b.mass * h * g.dot(&(b.velocity() - v_before));
-                    rot_steps += advance(b, &Vec3::zeros(), &Vec3::zeros(), h, max_rot) as u64;
-                } else {
-                    rot_steps += advance(b, &(g * b.mass), &Vec3::zeros(), h, max_rot) as u64;
+            for (work, steps) in moved {
+                if let Some(work) = work {
+                    integrator += work;
                 }
+                rot_steps += steps;
             }
             let Some(proj) =
                 self.project_or_rewind(&contacts, &pipeline.saved, &bounds, &mut rewinds, &pipeline.team, report)?
