@@ -5,6 +5,7 @@
 #   ring256  256 Raschig rings 10/6 x 10 mm, D = 60.18 mm, batch, the first 0.3 s of the pour
 #   cyl620   620 cylinders 10 x 10 mm, D = 91.58 mm, batch, the first 0.3 s of the pour
 #   sph690   690 spheres of 10 mm, D = 79.9 mm, batch, to rest
+#   cyl620-rest  the 620 cylinders to rest (about a minute a repeat; not in the default cases)
 # Each repeat runs the thread counts one after another (so a drift of the machine's speed
 # hits them alike); per case and thread count it prints the median wall and CPU seconds
 # (user + system) over the repeats, and beside the first thread count's run of the same
@@ -28,7 +29,8 @@ args_of() {  # case → pack's arguments
     ring256) echo "--pellet $work/r.pellet --tube-diameter 60.18 --count 256 --max-time 0.3" ;;
     cyl620) echo "--pellet $work/c.pellet --tube-diameter 91.58 --count 620 --max-time 0.3" ;;
     sph690) echo "--pellet $work/s.pellet --tube-diameter 79.9 --count 690" ;;
-    *) echo "bench-threads: unknown case $1 (ring256, cyl620, sph690)" >&2; return 2 ;;
+    cyl620-rest) echo "--pellet $work/c.pellet --tube-diameter 91.58 --count 620" ;;
+    *) echo "bench-threads: unknown case $1 (ring256, cyl620, sph690, cyl620-rest)" >&2; return 2 ;;
   esac
 }
 
