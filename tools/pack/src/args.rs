@@ -133,8 +133,9 @@ pub struct Args {
     #[arg(long, value_name = "F")]
     substep_scale: Option<f64>,
     /// Threads of the engine, 1 to 1024 (1: one thread). Any number gives the same bed bit for
-    /// bit; --resume may change it. The contact generation runs on them, the rest of a
-    /// step on one [default: the machine's cores].
+    /// bit; --resume may change it. Contact generation, the impulse solve, integration and
+    /// projection's first pass run on them, the rest of a step on one [default: the machine's
+    /// cores].
     #[arg(long, value_name = "N")]
     threads: Option<u32>,
     /// Simulated time limit (s; a whole number of the 0.005 s engine steps) [default: 120].
