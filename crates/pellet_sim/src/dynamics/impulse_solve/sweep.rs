@@ -124,7 +124,16 @@ impl<'a> Solve<'a> {
             let (slab, k) = self.layout.place[i];
             k as usize + if slab as usize == s { 0 } else { split }
         };
-        let mut task = Task { ids: ids.clone(), ..Task::default() };
+        let n = ids.len();
+        let mut task = Task {
+            ids: ids.clone(),
+            blocks: Vec::with_capacity(n),
+            patches: Vec::with_capacity(n),
+            ln: Vec::with_capacity(n),
+            lt: Vec::with_capacity(n),
+            lw: Vec::with_capacity(n),
+            ..Task::default()
+        };
         for &k in ids {
             let (c, w, target) = (&problem.contacts[k], &problem.warm[k], &problem.targets[k]);
             let mut blk = Block::new(c, problem.st, target);
@@ -145,8 +154,8 @@ impl<'a> Solve<'a> {
             task.ln.push(n0);
             task.lw.push(l);
         }
-        task.quiet = vec![false; ids.len()];
-        task.seen = vec![[0; 2]; ids.len()];
+        task.quiet = vec![false; n];
+        task.seen = vec![[0; 2]; n];
         *lock(&self.tasks[s]) = task;
     }
 
