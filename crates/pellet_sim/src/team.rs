@@ -2,7 +2,7 @@
 //! impulse solve run their work on it. Nothing a team does decides a result: its users split
 //! their work so that any thread may take any part of it and the answer is the serial one.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, PoisonError};
 
 /// Spins a waiting thread this many times before it yields its core: a phase of the solve
@@ -54,13 +54,19 @@ impl Team {
     pub fn run(&self, n: usize, work: impl Fn(usize, &Barrier) + Sync) {
         let n = n.clamp(1, self.threads());
         let barrier = Barrier::new(n);
+        // A thread that panics poisons the barrier, so that the others panic at it instead of
+        // waiting for it for ever.
+        let guarded = |k: usize, barrier: &Barrier| {
+            let _poison = PoisonOnPanic(barrier);
+            work(k, barrier);
+        };
         match &self.pool {
             Some(pool) if n > 1 => pool.in_place_scope(|scope| {
-                let (work, barrier) = (&work, &barrier);
+                let (guarded, barrier) = (&guarded, &barrier);
                 for k in 1..n {
-                    scope.spawn(move |_| work(k, barrier));
+                    scope.spawn(move |_| guarded(k, barrier));
                 }
-                work(0, barrier);
+                guarded(0, barrier);
             }),
             _ => work(0, &barrier),
         }
@@ -111,11 +117,23 @@ pub struct Barrier {
     n: usize,
     arrived: AtomicUsize,
     generation: AtomicUsize,
+    poisoned: AtomicBool,
+}
+
+/// Marks its barrier poisoned if dropped while its thread unwinds.
+struct PoisonOnPanic<'a>(&'a Barrier);
+
+impl Drop for PoisonOnPanic<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.poisoned.store(true, Ordering::Release);
+        }
+    }
 }
 
 impl Barrier {
     fn new(n: usize) -> Self {
-        Self { n, arrived: AtomicUsize::new(0), generation: AtomicUsize::new(0) }
+        Self { n, arrived: AtomicUsize::new(0), generation: AtomicUsize::new(0), poisoned: AtomicBool::new(false) }
     }
 
     /// Waits until all the run's threads have called it as often as this one.
@@ -132,6 +150,9 @@ impl Barrier {
         }
         let mut spins = 0u32;
         while self.generation.load(Ordering::Acquire) == generation {
+            if self.poisoned.load(Ordering::Acquire) {
+                panic!("another thread of the team panicked");
+            }
             if spins < SPINS_BEFORE_YIELD {
                 spins += 1;
                 std::hint::spin_loop();
@@ -145,6 +166,21 @@ impl Barrier {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A thread that panics makes the run panic, not hang: the others stop at the barrier.
+    #[test]
+    fn a_panic_on_one_thread_ends_the_run() {
+        let team = Team::new(2);
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            team.run(2, |k, barrier| {
+                if k == 1 {
+                    panic!("thread 1 fails");
+                }
+                barrier.wait();
+            })
+        }));
+        assert!(result.is_err());
+    }
 
     /// Every thread sees every other's writes of a round after the barrier that ends it.
     #[test]
