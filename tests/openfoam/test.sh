@@ -70,8 +70,8 @@ mesh_case() {
     done
     meshed=$(sed -n 's/.*Total volume = \([^ ]*\)\..*/\1/p' log.checkMesh | head -n 1)
     [ -n "$meshed" ] || fail "$1: checkMesh printed no total volume"
-    awk -v m="$meshed" -v e="$expected" 'BEGIN { d = (m - e) / e; if (d < 0) d = -d; exit !(d <= 0.02) }' \
-        || fail "$1: meshed fluid volume $meshed m3 is not within 2 % of $expected m3"
+    awk -v m="$meshed" -v e="$expected" 'BEGIN { d = (m - e) / e; if (d < 0) d = -d; exit !(d <= 0.01) }' \
+        || fail "$1: meshed fluid volume $meshed m3 is not within 1 % of $expected m3"
     cells=$(sed -n 's/^ *cells: *\([0-9]*\)/\1/p' log.checkMesh | head -n 1)
     say "$1: passed: Mesh OK, $cells cells, fluid volume $meshed m3 (expected $expected m3)"
     cd "$work" || exit 2
