@@ -298,7 +298,7 @@ castellatedMeshControls\n{{\n    maxLocalCells       2000000;\n    maxGlobalCell
                 wall   {{ level (0 0); patchInfo {{ type wall; }} }}\n\
                 inlet  {{ level (0 0); patchInfo {{ type patch; }} }}\n\
                 outlet {{ level (0 0); patchInfo {{ type patch; }} }}\n            }}\n        }}\n\
-        pellets\n        {{\n            level (1 1);\n            patchInfo {{ type wall; }}\n        }}\n    }}\n\
+        pellets\n        {{\n            level (1 1);\n            // One level more in the narrow gaps along the pellets' line contacts (with each\n            // other and the wall), which fewer cells would leave out of the fluid.\n            gapLevelIncrement 1;\n            patchInfo {{ type wall; }}\n        }}\n    }}\n\
     resolveFeatureAngle 30;\n{regions}\
     locationInMesh ({:.9e} {:.9e} {:.9e});\n    allowFreeStandingZoneFaces true;\n}}\n\n\
 snapControls\n{{\n    nSmoothPatch 3;\n    tolerance    2.0;\n    nSolveIter   50;\n    nRelaxIter   5;\n\
@@ -414,6 +414,8 @@ mod tests {
                 && dict.contains("contact_00000 { mode inside; levels ((1e15 3)); }")
         );
         assert!(dict.contains("cells of 2 cell / 2^3 (2.500000e-4 m)"), "{dict}");
+        assert!(dict.contains("level (1 1);\n            // One level more in the narrow gaps"), "{dict}");
+        assert!(dict.contains("gapLevelIncrement 1;\n            patchInfo { type wall; }"), "{dict}");
     }
 
     #[test]
