@@ -7,7 +7,7 @@
 # pellets.stl closed and not self-intersecting, and blockMesh,
 # surfaceFeatureExtract, snappyHexMesh and checkMesh must give "Mesh OK",
 # one region, the patches inlet, outlet, wall and pellets, and a fluid
-# volume within 2 % of the tube minus the pellets (caps and bridges on every bed);
+# volume within 1 % of the tube minus the pellets (caps and bridges on every bed);
 # BEDS="spheres rings" runs only those. Then simpleFoam on the
 # sphere bed's case, its pressure drop against Ergun's (see flow_bed). Fails (exit 1) when
 # OpenFOAM cannot be installed: it never passes by skipping. KEEP=1 keeps the case.
