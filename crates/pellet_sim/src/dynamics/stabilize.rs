@@ -189,23 +189,20 @@ impl ContactCache<'_, '_> {
     /// (where neither the sweep nor the penetration measure needs it: re-evaluating contacts
     /// that stay open was most of the projection's cost in a wide cylinder bed at rest).
     fn contact(&mut self, bodies: &[Body], moves: &[u32], i: usize) -> Option<&Contact> {
-        let c = &self.contacts[i];
-        let b = c.b_body();
-        let stamp = (moves[c.a], b.map_or(0, |b| moves[b]));
-        let drift = (self.drift[c.a], b.map_or(0.0, |b| self.drift[b]));
-        let jump = || self.bounds.jump[c.a] + b.map_or(0.0, |b| self.bounds.jump[b]);
-        let stays_open = |gap: Real, d0: (Real, Real)| {
-            gap - (self.bounds.lipschitz * ((drift.0 - d0.0) + (drift.1 - d0.1)) + jump()) > 0.0
-        };
+        let contacts = self.contacts;
+        let c = &contacts[i];
+        let stamp = (moves[c.a], c.b_body().map_or(0, |b| moves[b]));
         let slot = self.slot[i];
         let fresh = match self.entries.get(slot as usize) {
-            None if stays_open(c.gap, (0.0, 0.0)) => return None,
+            None if self.stays_open(c, c.gap, (0.0, 0.0)) => return None,
             Some(e) if e.stamp == stamp => true,
-            Some(CachedContact { drift: d0, contact: Some(old), .. }) if stays_open(old.gap, *d0) => return None,
+            Some(CachedContact { drift: d0, contact: Some(old), .. }) if self.stays_open(c, old.gap, *d0) => {
+                return None
+            }
             _ => false,
         };
         if !fresh {
-            let entry = CachedContact { stamp, drift, contact: (self.eval)(bodies, c) };
+            let entry = CachedContact { stamp, drift: self.drift_of(c), contact: (self.eval)(bodies, c) };
             if slot == NO_ENTRY {
                 self.slot[i] = self.entries.len() as u32;
                 self.entries.push(entry);
@@ -225,26 +222,29 @@ impl ContactCache<'_, '_> {
         if team.threads() < 2 || !self.entries.is_empty() {
             return;
         }
-        let mut due: Vec<usize> = (0..self.contacts.len())
-            .filter(|&i| {
-                let c = &self.contacts[i];
-                let b = c.b_body();
-                let drift = self.drift[c.a] + b.map_or(0.0, |b| self.drift[b]);
-                let jump = self.bounds.jump[c.a] + b.map_or(0.0, |b| self.bounds.jump[b]);
-                c.gap - (self.bounds.lipschitz * drift + jump) <= 0.0
-            })
-            .collect();
         let (eval, contacts) = (self.eval, self.contacts);
+        let mut due: Vec<usize> =
+            (0..contacts.len()).filter(|&i| !self.stays_open(&contacts[i], contacts[i].gap, (0.0, 0.0))).collect();
         let Ok(found) = team.in_order(&mut due, |chunk, out| {
             out.extend(chunk.iter().map(|&i| eval(bodies, &contacts[i])));
             Ok::<(), std::convert::Infallible>(())
         });
         for (&i, contact) in due.iter().zip(found) {
-            let c = &contacts[i];
-            let drift = (self.drift[c.a], c.b_body().map_or(0.0, |b| self.drift[b]));
             self.slot[i] = self.entries.len() as u32;
-            self.entries.push(CachedContact { stamp: (0, 0), drift, contact });
+            self.entries.push(CachedContact { stamp: (0, 0), drift: self.drift_of(&contacts[i]), contact });
         }
+    }
+
+    /// The drift bounds of `c`'s two bodies since the contacts were generated, m.
+    fn drift_of(&self, c: &Contact) -> (Real, Real) {
+        (self.drift[c.a], c.b_body().map_or(0.0, |b| self.drift[b]))
+    }
+
+    /// A gap of `c` measured when its bodies' drifts were `d0` provably stays open now.
+    fn stays_open(&self, c: &Contact, gap: Real, d0: (Real, Real)) -> bool {
+        let drift = self.drift_of(c);
+        let jump = self.bounds.jump[c.a] + c.b_body().map_or(0.0, |b| self.bounds.jump[b]);
+        gap - (self.bounds.lipschitz * ((drift.0 - d0.0) + (drift.1 - d0.1)) + jump) > 0.0
     }
 
     fn max_penetration(&mut self, bodies: &[Body], moves: &[u32]) -> Real {

@@ -50,9 +50,8 @@ pub struct Pipeline {
     last: Vec<Contact>,
     last_forces: (Vec<Real>, Vec<Vec3>),
     last_records: std::cell::OnceCell<Vec<ContactRecord>>,
-    /// Threads of the narrow phase and the impulse solve (0 or 1: the calling thread alone);
-    /// any number gives the same step bit for bit (`threads`, `team`).
-    pub(super) threads: usize,
+    /// The step's threads (one: the calling thread alone); any number gives the same step bit
+    /// for bit (`threads`, `team`).
     pub(super) team: Team,
 }
 
@@ -103,7 +102,6 @@ impl Pipeline {
         if threads.max(1) != self.team.threads() {
             self.team = Team::new(threads);
         }
-        self.threads = threads;
     }
 
     /// `self` with [`Self::set_threads`].
@@ -112,9 +110,9 @@ impl Pipeline {
         self
     }
 
-    /// The step's threads (as set; 0 and 1 both mean the calling thread alone).
+    /// The step's threads (at least 1: set to 0 or 1, the calling thread alone).
     pub fn threads(&self) -> usize {
-        self.threads
+        self.team.threads()
     }
 
     /// The warm forces the next step starts from, in key order.

@@ -31,32 +31,33 @@ struct View<'a> {
 }
 
 impl View<'_> {
+    /// The slab that holds body `i` of the view, and its index there.
+    #[inline]
+    fn slot(&mut self, i: usize) -> (&mut Bodies, usize) {
+        if i < self.split {
+            (&mut *self.lo, i)
+        } else {
+            (&mut *self.hi, i - self.split)
+        }
+    }
+
     #[inline]
     fn version(&mut self, i: usize) -> &mut u64 {
-        if i < self.split {
-            &mut self.lo.version[i]
-        } else {
-            &mut self.hi.version[i - self.split]
-        }
+        let (b, k) = self.slot(i);
+        &mut b.version[k]
     }
 }
 
 impl Velocities for View<'_> {
     #[inline]
     fn v(&mut self, i: usize) -> &mut Vec3 {
-        if i < self.split {
-            &mut self.lo.v[i]
-        } else {
-            &mut self.hi.v[i - self.split]
-        }
+        let (b, k) = self.slot(i);
+        &mut b.v[k]
     }
     #[inline]
     fn w(&mut self, i: usize) -> &mut Vec3 {
-        if i < self.split {
-            &mut self.lo.w[i]
-        } else {
-            &mut self.hi.w[i - self.split]
-        }
+        let (b, k) = self.slot(i);
+        &mut b.w[k]
     }
 }
 
@@ -185,6 +186,9 @@ impl<'a> Solve<'a> {
         let sizes: Vec<usize> = self.layout.tasks.iter().map(Vec::len).collect();
         let halves: [Vec<usize>; 2] = [0, 1].map(|h| (h..sizes.len()).step_by(2).filter(|&s| sizes[s] > 0).collect());
         let contacts: usize = sizes.iter().sum();
+        if contacts == 0 {
+            return ImpulseSolution { converged: true, ..ImpulseSolution::default() };
+        }
         let threads = if contacts < MIN_PARALLEL_CONTACTS { 1 } else { halves[0].len().max(halves[1].len()) };
         // Each task's change in the sweep, kept for two sweeps: a thread may start the next
         // sweep while another still reads this one's.
@@ -193,7 +197,7 @@ impl<'a> Solve<'a> {
         // the one two ahead is reset once everybody is done with it.
         let next: [AtomicU64; 3] = [0, 1, 0].map(|h| AtomicU64::new(ends_of(halves[h].len())));
         let built = AtomicUsize::new(0);
-        let outcome = Mutex::new((0, 0.0, contacts == 0));
+        let outcome = Mutex::new((0, 0.0, false));
         team.run(threads, |thread, barrier| {
             // The blocks, every task at once: they write no velocity.
             loop {
@@ -226,9 +230,6 @@ impl<'a> Solve<'a> {
             }
             barrier.wait();
             for sweep in 1..=max_sweeps {
-                if contacts == 0 {
-                    break;
-                }
                 let buffer = &change[sweep % 2];
                 for half in &halves {
                     half_sweep(half, &|s| {
