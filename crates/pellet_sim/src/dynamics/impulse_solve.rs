@@ -17,9 +17,11 @@ use crate::geometry::contact::Contact;
 use crate::math::{Mat3, Real, Vec3};
 use crate::team::Team;
 
+mod passes;
 mod patch;
 mod slabs;
 mod sweep;
+pub use passes::{collision_passes, Touching};
 use patch::PatchBlock;
 
 /// A block's update smaller than this fraction of the tolerance (m/s of relative velocity) is

@@ -13,7 +13,9 @@ use super::step::{Pipeline, StepReport, WarmImpulse};
 use super::world::World;
 use crate::body::Body;
 use crate::container::WallId;
-use crate::dynamics::impulse_solve::{solve_impulses, NormalTarget, VelocityState, WarmStart};
+use crate::dynamics::impulse_solve::{
+    collision_passes, solve_impulses, NormalTarget, Touching, VelocityState, WarmStart,
+};
 use crate::dynamics::integrator::advance;
 use crate::dynamics::rows::relative_velocity_from;
 use crate::error::SimError;
@@ -194,7 +196,9 @@ impl World {
             let mut targets = Vec::with_capacity(contacts.len());
             let mut warm = Vec::with_capacity(contacts.len());
             let mut colliding_now = Vec::with_capacity(contacts.len());
-            for (((c, u), m), &(patch, rolls)) in contacts.iter().zip(&u0).zip(&memory).zip(&patches) {
+            let mut first = Vec::new();
+            let mut touching = Vec::new();
+            for (k, (((c, u), m), &(patch, rolls))) in contacts.iter().zip(&u0).zip(&memory).zip(&patches).enumerate() {
                 let (cor, mu) = match c.b {
                     Counterpart::Body(_) => (self.material.cor, self.material.friction),
                     Counterpart::Wall(_) => (self.wall_material.cor, self.wall_material.friction),
@@ -202,33 +206,72 @@ impl World {
                 let un = c.normal.dot(u);
                 let pending = m.approach < 0.0;
                 let approach = if pending { un.min(m.approach) } else { un };
-                let start = WarmStart { normal: m.normal * h, friction: m.friction * h, torque: m.torque * h };
+                // Newton's law acts at the start of the step; gravity's increment of the
+                // relative velocity over the step (against a wall; none between two pellets)
+                // follows it.
+                let fall = if c.b_body().is_none() { c.normal.dot(&g) * h } else { 0.0 };
                 // An open contact closing fast is first brought to the touching gap, and bounces
                 // the step after, from there: bouncing at once from up to δ_c would move the
                 // bounce point from one impact to the next, and a ball bouncing on the spot
                 // then gains what it falls further.
-                let collide = approach < -eps_p && (c.gap <= 0.0 || pending);
-                let (min_speed, w) = if collide {
+                let arriving = approach < -eps_p && c.gap > 0.0 && !pending;
+                let collide = approach < -eps_p && !arriving;
+                if collide {
                     colliding += 1;
-                    // Newton's law acts at the start of the step; gravity's increment of the
-                    // relative velocity over the step (against a wall; none between two
-                    // pellets) follows it. Never below what keeps the gap from closing.
-                    let fall = if c.b_body().is_none() { c.normal.dot(&g) * h } else { 0.0 };
-                    ((-cor * approach + fall).max(-c.gap.max(0.0) / h), WarmStart::default())
-                } else {
-                    if c.gap <= delta_c {
-                        resting += 1;
-                    }
-                    (-c.gap.max(0.0) / h, start)
-                };
+                    // Never below what keeps the gap from closing.
+                    first.push((k, (-cor * approach + fall).max(-c.gap.max(0.0) / h)));
+                } else if arriving {
+                    // Stopped at the touching gap by the collision passes, its two bodies alone
+                    // (e = 0: the bounce follows from the remembered approach), not by the
+                    // step's solve, where the bodies behind B would stop it as one rigid body.
+                    first.push((k, -c.gap / h));
+                } else if c.gap <= delta_c {
+                    resting += 1;
+                }
+                if c.gap <= delta_c && !arriving {
+                    touching.push(Touching { index: k, cor, fall });
+                }
                 colliding_now.push(collide);
-                targets.push(NormalTarget { min_speed, mu, patch, rolls });
-                warm.push(w);
+                // The step's solve is inelastic for every contact: a colliding one enters it
+                // with the impulse of its collision already applied, and cold.
+                targets.push(NormalTarget { min_speed: -c.gap.max(0.0) / h, mu, patch, rolls });
+                warm.push(if collide {
+                    WarmStart::default()
+                } else {
+                    WarmStart { normal: m.normal * h, friction: m.friction * h, torque: m.torque * h }
+                });
             }
             let mut st = VelocityState::free(&self.bodies, &g, h);
             let fastest = vel0.iter().map(|v| v.norm()).fold(0.0, Real::max);
             let tolerance = (vp.tolerance_factor * eps_p).max(vp.relative_tolerance * fastest);
-            let sol = solve_impulses(&contacts, &targets, &warm, &mut st, tolerance, vp.max_sweeps, &pipeline.team);
+            let collisions = (!first.is_empty()).then(|| {
+                collision_passes(
+                    &contacts,
+                    &targets,
+                    &first,
+                    &touching,
+                    eps_p,
+                    &mut st,
+                    tolerance,
+                    vp.max_sweeps,
+                    &pipeline.team,
+                )
+            });
+            let mut sol = solve_impulses(&contacts, &targets, &warm, &mut st, tolerance, vp.max_sweeps, &pipeline.team);
+            // The next step starts from this solve's impulses, without the collisions': a
+            // bounce's impulse is not the load of a contact that stays.
+            let carried = collisions.is_some().then(|| (sol.normal.clone(), sol.friction.clone(), sol.torque.clone()));
+            if let Some(passes) = &collisions {
+                for (k, n) in passes.normal.iter().enumerate() {
+                    sol.normal[k] += n;
+                    sol.friction[k] += passes.friction[k];
+                    sol.torque[k] += passes.torque[k];
+                }
+                sol.sweeps += passes.sweeps;
+                sol.converged &= passes.converged;
+                report.collision_passes += passes.passes as u64;
+                report.final_solves += u32::from(passes.capped);
+            }
             report.wall_seconds[2] += clock.elapsed().as_secs_f64();
             // Each body's momenta after the step: gravity's increment plus the contact impulses.
             // A body that no contact pushes flies exactly (a semi-implicit step under gravity
@@ -339,11 +382,15 @@ impl World {
                     let pull = if c.b_body().is_none() { -c.normal.dot(&g) } else { 0.0 };
                     let approach =
                         if stopped { -(approach * approach + 2.0 * pull.max(0.0) * c.gap).sqrt() } else { 0.0 };
-                    (sol.normal[k] > 0.0 || stopped).then(|| WarmImpulse {
+                    let (normal, friction, torque) = match &carried {
+                        Some((n, f, t)) => (n[k], f[k], t[k]),
+                        None => (sol.normal[k], sol.friction[k], sol.torque[k]),
+                    };
+                    (normal > 0.0 || stopped).then(|| WarmImpulse {
                         key: c.key,
-                        normal: sol.normal[k] / h,
-                        friction: sol.friction[k] / h,
-                        torque: sol.torque[k] / h,
+                        normal: normal / h,
+                        friction: friction / h,
+                        torque: torque / h,
                         approach,
                     })
                 })
