@@ -1,5 +1,5 @@
-//! The velocity-level step's collision phase (physics.md §5.6; `docs/engine.md`, "Collisions
-//! before the step's solve"): the contacts colliding at the start of the step are solved alone
+//! The velocity-level step's collision phase (`docs/engine.md`, "Collisions before the step's
+//! solve"): the contacts colliding at the start of the step are solved alone
 //! to Newton's law, every other contact left out, as in the force-level stepper's collision
 //! passes; a contact that one pass sets closing faster than εp collides in the next. The
 //! step's one solve over every contact then follows, inelastic, from the velocities the passes
@@ -11,8 +11,8 @@ use crate::geometry::contact::Contact;
 use crate::math::{Real, Vec3};
 use crate::team::Team;
 
-/// Passes before the step's solve takes over as the final e = 0 solve of physics.md §5.6: a
-/// chain of impacts through a pile ends there.
+/// Passes before the step's solve takes over as the final e = 0 solve, as in the force-level
+/// stepper's collision phase: a chain of impacts through a pile ends there.
 pub const MAX_COLLISION_PASSES: usize = 50;
 
 /// A contact that a pass may set colliding: touching, and not an open contact that was already
