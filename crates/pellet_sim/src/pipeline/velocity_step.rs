@@ -108,37 +108,21 @@ impl World {
             near.step_speed = near.step_speed.max(step_speed);
             near.pairs.push((i, j, full));
         }
-        // A body that a collision pass strikes leaves at up to about the speed its partner
-        // closed at (pellets of equal mass), after its speculative contacts were found: each
-        // pair's and wall's bound on the relative speed counts what its bodies may be given.
-        // Without it a struck pellet sank into a neighbour it was not yet touching, by up to
-        // 1.5 % of its size in the 690-sphere bed (docs/engine.md, Collisions before the
-        // step's solve).
-        let mut kick = vec![0.0 as Real; self.bodies.len()];
-        for &(i, j, full) in &near.pairs {
-            kick[i] = kick[i].max(full);
-            kick[j] = kick[j].max(full);
-        }
-        for pair in &mut near.pairs {
-            pair.2 += kick[pair.0] + kick[pair.1];
-        }
         for (k, b) in self.bodies.iter().enumerate() {
             let reach = speeds[k] * horizon + fall + delta_c;
             let round = self.round(k);
             self.container.wall_gaps(&b.position, b.bounding_radius, |wall, gap| {
-                if gap > reach + kick[k] * horizon {
+                if gap > reach {
                     return;
                 }
                 let full = speeds[k] + spins[k] + g * horizon;
-                if gap <= reach {
-                    let step_speed = if round && gap > delta_c {
-                        wall_closing(&self.container, wall, b, true, self.params.velocity.max_step) + g * horizon
-                    } else {
-                        full
-                    };
-                    near.step_speed = near.step_speed.max(step_speed);
-                }
-                near.walls.push((k, wall, full + kick[k]));
+                let step_speed = if round && gap > delta_c {
+                    wall_closing(&self.container, wall, b, true, self.params.velocity.max_step) + g * horizon
+                } else {
+                    full
+                };
+                near.step_speed = near.step_speed.max(step_speed);
+                near.walls.push((k, wall, full));
             });
         }
         near
