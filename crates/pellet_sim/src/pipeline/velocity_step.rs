@@ -223,7 +223,8 @@ impl World {
                 } else if arriving {
                     // Stopped at the touching gap by the collision passes, its two bodies alone
                     // (e = 0: the bounce follows from the remembered approach), not by the
-                    // step's solve, where the bodies behind B would stop it as one rigid body.
+                    // step's solve, where the pellets behind the one it meets would stop it as
+                    // one rigid body.
                     first.push((k, -c.gap / h));
                 } else if c.gap <= delta_c {
                     resting += 1;
