@@ -271,7 +271,7 @@ impl World {
                 sol.sweeps += passes.sweeps;
                 sol.converged &= passes.converged;
                 report.collision_passes += passes.passes as u64;
-                report.final_solves += u32::from(passes.capped);
+                report.final_solves += u32::from(passes.capped || passes.gained);
             }
             report.wall_seconds[2] += clock.elapsed().as_secs_f64();
             // Each body's momenta after the step: gravity's increment plus the contact impulses.
