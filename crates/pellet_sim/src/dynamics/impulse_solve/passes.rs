@@ -82,8 +82,11 @@ pub fn collision_passes(
             break;
         }
         let sub: Vec<Contact> = set.iter().map(|&(k, _)| contacts[k].clone()).collect();
+        // An impact meets at a point: the patch that lets a contact at rest resist spin and
+        // rolling is left to the step's solve (with it, a nearly elastic pour loses the spin
+        // that compacts it, as the force-level stepper's impacts do not).
         let sub_targets: Vec<NormalTarget> =
-            set.iter().map(|&(k, t)| NormalTarget { min_speed: t, ..targets[k] }).collect();
+            set.iter().map(|&(k, t)| NormalTarget { min_speed: t, patch: 0.0, ..targets[k] }).collect();
         let cold = vec![WarmStart::default(); sub.len()];
         // Newton's law on the contacts of a later pass, all at once, can ask for more energy
         // than their impacts had (a pellet wedged between two that strike it), and a solve
