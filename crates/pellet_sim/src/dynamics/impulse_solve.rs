@@ -148,18 +148,6 @@ impl VelocityState {
         }
     }
 
-    /// Kinetic energy of the bodies `ids`, J.
-    fn kinetic(&self, ids: &[usize]) -> Real {
-        ids.iter()
-            .map(|&i| {
-                let spin =
-                    self.inv_inertia[i].try_inverse().map_or(0.0, |inertia| self.w[i].dot(&(inertia * self.w[i])));
-                let mass = if self.inv_mass[i] > 0.0 { self.v[i].norm_squared() / self.inv_mass[i] } else { 0.0 };
-                0.5 * (mass + spin)
-            })
-            .sum()
-    }
-
     fn relative(&self, c: &Contact) -> Vec3 {
         let ua = self.v[c.a] + self.w[c.a].cross(&c.lever_a);
         match c.b_body() {
