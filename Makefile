@@ -8,7 +8,7 @@ BIN := $(or $(CARGO_TARGET_DIR),target)/release
 PREFIX ?= /usr/local
 TOOLS := mkpellet pack settle-check voidprof compare bedexport paper-report
 
-.PHONY: all build install pipeline test fuzz test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park stepper-study stepper-study-report
+.PHONY: all build install pipeline test fuzz test-slurm test-openfoam lint doc bench t14 t14-sensitivity clean paper paper-validation paper-loading paper-cor paper-friction paper-report paper-park stepper-study stepper-study-halving stepper-study-report
 
 all: pipeline
 
@@ -133,6 +133,15 @@ STEPPER_STUDY = $(MAKE) --no-print-directory -f pipelines/stepper-study.mk BIN=$
 
 stepper-study: build
 	+$(STEPPER_STUDY) beds || status=$$?; $(STEPPER_STUDY) report && exit $${status:-0}
+
+# Where the two steppers differ, the step-halving arms decide which has not converged: the
+# study's failing configurations packed by the velocity-level stepper at half its step and by
+# the force-level one at a quarter of its substep (pipelines/stepper-study.mk, ARM), records
+# in $(PAPER_DOCS)/stepper-study/{velocity-half,force-quarter}, then the report. About 1.5 h
+# of one core for 6 seeds of the default configurations (TUBES, SEEDS as above).
+stepper-study-halving: build
+	+$(STEPPER_STUDY) ARM=velocity-half beds || status=$$?; \
+	  $(STEPPER_STUDY) ARM=force-quarter beds || status=$$?; $(STEPPER_STUDY) report && exit $${status:-0}
 
 stepper-study-report:
 	$(STEPPER_STUDY) report

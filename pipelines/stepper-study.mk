@@ -22,11 +22,22 @@
 #
 #   make -f pipelines/stepper-study.mk beds     the beds
 #   make -f pipelines/stepper-study.mk report   $(REPORT) from the records
+#   make -f pipelines/stepper-study.mk ARM=force-quarter beds   an arm's beds (below)
 #
 # TUBES: the paper's validation configurations to pack (ids of $(TABLE));
 # SEEDS=k packs seeds 1..k of each; SPHERE690_SEEDS=k seeds 1..k of the
 # 690-sphere bed (empty or 0: none). The report covers every configuration of
 # the study, with whatever records exist.
+#
+# ARM: where the two steppers' beds differ, halving each stepper's step decides
+# which of them has not converged. An arm packs the same cases at a smaller step,
+# its records in $(ARCHIVE)/$(ARM) (its runs in $(OUT)/$(ARM)), by default of the
+# configurations $(HALVING_TUBES) and no 690-sphere beds (its step-halving is
+# pipelines/step-convergence.sh's):
+#   velocity-half   the velocity-level stepper at half its step (pack's default
+#                   --step-travel and --max-step, halved)
+#   force-quarter   the force-level stepper at a quarter of its substep
+#                   (--stepper acceleration --substep-scale 0.25)
 BIN ?= target/release
 OUT ?= out/stepper-study
 DOCS ?= docs/validation
@@ -41,9 +52,35 @@ PYTHON ?= python3
 STUDY_TUBES := val-sphere-D31 val-sphere-D41 val-sphere-D61 val-sphere-D79.9 \
   val-cylinder-D35.49 val-cylinder-D69.83 val-cylinder-D91.58 \
   val-ring-D40.45 val-ring-D60.18
-TUBES ?= $(STUDY_TUBES)
+# The configurations whose porosities differ by more than two standard errors and
+# whose force-level beds at a quarter of the substep take minutes, not hours.
+HALVING_TUBES := val-sphere-D61 val-ring-D40.45
+ARM ?=
 SEEDS ?= 6
+STUDY_ARCHIVE := $(ARCHIVE)
+ifeq ($(ARM),)
+TUBES ?= $(STUDY_TUBES)
 SPHERE690_SEEDS ?= 20
+ARM_KEYS := stepper = "velocity"
+else
+TUBES ?= $(HALVING_TUBES)
+SPHERE690_SEEDS ?= 0
+override OUT := $(OUT)/$(ARM)
+override ARCHIVE := $(ARCHIVE)/$(ARM)
+ifeq ($(ARM),force-quarter)
+ARM_KEYS := stepper = "acceleration"\nsubstep-scale = 0.25
+else ifeq ($(ARM),velocity-half)
+# pack's own defaults, from its --help, so that the arm is exactly half of them.
+pack_default = $(shell $(BIN)/pack --help | tr '\n' ' ' | sed -n 's/.*--$(1) <[A-Z]*> [^[]*\[default: \([0-9.e-]*\);.*/\1/p')
+TRAVEL := $(call pack_default,step-travel)
+MAX_STEP := $(call pack_default,max-step)
+$(if $(TRAVEL),,$(error ARM=velocity-half: cannot read pack's default --step-travel from $(BIN)/pack --help; build pack first))
+$(if $(MAX_STEP),,$(error ARM=velocity-half: cannot read pack's default --max-step from $(BIN)/pack --help; build pack first))
+ARM_KEYS := stepper = "velocity"\nstep-travel = $(shell awk 'BEGIN { print $(TRAVEL) / 2 }')\nmax-step = $(shell awk 'BEGIN { print $(MAX_STEP) / 2 }')
+else
+$(error ARM=$(ARM): unknown arm; use velocity-half or force-quarter, or leave ARM empty for the study)
+endif
+endif
 
 # The helper scripts sit beside this file, wherever make is run from.
 THIS := $(lastword $(MAKEFILE_LIST))
@@ -78,7 +115,8 @@ pellets: $(PELLETS)
 # then any other TUBES, then the 690-sphere bed), each from the records it has.
 report:
 	$(PYTHON) $(HERE)/report.py --table $(TABLE) --study-table $(STUDY_TABLE) \
-	  --velocity $(ARCHIVE) --reference $(REFERENCE) -o $(REPORT) \
+	  --velocity $(STUDY_ARCHIVE) --reference $(REFERENCE) -o $(REPORT) \
+	  --velocity-half $(STUDY_ARCHIVE)/velocity-half --force-quarter $(STUDY_ARCHIVE)/force-quarter \
 	  $(STUDY_TUBES) $(filter-out $(STUDY_TUBES),$(TUBES)) $(SPHERE690)
 
 $(OUT) $(RUNS) $(CASES) $(ARCHIVE):
@@ -93,16 +131,18 @@ $(OUT)/ring.pellet: | $(OUT)
 	$(BIN)/mkpellet ring --outer-diameter 10 --inner-diameter 6 --height 10 -o $@
 
 # The case file: the paper's (its first line, which names the paper study,
-# replaced) plus the stepper, or a row of this study's table. Rewritten only
-# when its text changes, so editing one row re-runs only that row's beds.
+# replaced) or a row of this study's table, plus the stepper and the arm's step
+# ($(ARM_KEYS)). Rewritten only when its text changes, so editing one row re-runs
+# only that row's beds.
 $(CASES)/%.toml: $(TABLE) $(STUDY_TABLE) $(PAPER)/case.awk $(HERE)/case.awk | $(CASES)
 	config=$$(echo $* | sed 's/-s[0-9]*$$//'); \
 	if awk -F, -v c=$$config '$$1 == c { found = 1 } END { exit !found }' $(STUDY_TABLE); then \
-	  awk -F, -v id=$* -f $(HERE)/case.awk $(STUDY_TABLE) > $@.tmp; \
+	  awk -F, -v id=$* -f $(HERE)/case.awk $(STUDY_TABLE) > $@.paper && \
+	  { cat $@.paper; printf '%b\n' '$(ARM_KEYS)'; } > $@.tmp && rm -f $@.paper; \
 	else \
 	  awk -F, -v id=$* -f $(PAPER)/case.awk $(TABLE) > $@.paper && \
-	  { echo "# packbed stepper study, bed $*: the paper's case with the velocity-level stepper"; \
-	    sed 1d $@.paper; echo 'stepper = "velocity"'; } > $@.tmp && rm -f $@.paper; \
+	  { echo "# packbed stepper study, bed $*: the paper's case with $(if $(ARM),the arm $(ARM),the velocity-level stepper)"; \
+	    sed 1d $@.paper; printf '%b\n' '$(ARM_KEYS)'; } > $@.tmp && rm -f $@.paper; \
 	fi || { rm -f $@.tmp $@.paper; exit 2; }
 	if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
 

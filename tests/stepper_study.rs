@@ -79,6 +79,56 @@ fn stepper_study_dry_run_packs_the_chosen_beds_with_the_velocity_stepper() {
     assert_eq!(again, ["val-sphere-D41-s2"]);
 }
 
+/// pack's default of a flag, from its `--help` ("[default: 0.025; ...").
+fn pack_default(flag: &str) -> f64 {
+    let help = Command::new(bin("pack")).arg("--help").output().expect("run pack --help");
+    let help = String::from_utf8_lossy(&help.stdout).replace('\n', " ");
+    let after = help.split(&format!("--{flag} <")).nth(1).unwrap_or_else(|| panic!("--{flag} in {help}"));
+    let value = after.split("[default: ").nth(1).expect("a default").split(';').next().unwrap();
+    value.parse().unwrap_or_else(|e| panic!("--{flag} default {value}: {e}"))
+}
+
+#[test]
+fn stepper_study_arms_pack_the_failing_tubes_at_a_smaller_step() {
+    let s = Scenario::new();
+    // The force-level stepper at a quarter of its substep, by default the configurations whose
+    // porosities differed, no 690-sphere beds; runs and records in the arm's own directories.
+    let plan = dry_run(&s, &["ARM=force-quarter", "SEEDS=2"]);
+    let ids: Vec<String> = plan
+        .lines()
+        .filter(|l| l.contains("/pack --case"))
+        .map(|l| l.split("--case out/force-quarter/cases/").nth(1).expect("the arm's case").to_string())
+        .map(|rest| rest.split(".toml").next().unwrap().to_string())
+        .collect();
+    assert_eq!(ids, ["val-sphere-D61-s1", "val-sphere-D61-s2", "val-ring-D40.45-s1", "val-ring-D40.45-s2"]);
+    assert!(plan.contains("'stepper = \"acceleration\"\\nsubstep-scale = 0.25'"), "{plan}");
+    assert!(plan.contains("docs/stepper-study/force-quarter/val-ring-D40.45-s2.summary.json"), "{plan}");
+    assert!(!plan.contains("stepper = \"velocity\""), "{plan}");
+
+    // The velocity-level stepper at half of pack's own default step.
+    let plan = dry_run(&s, &["ARM=velocity-half", "SEEDS=1", "TUBES=val-ring-D60.18"]);
+    let keys = format!(
+        "'stepper = \"velocity\"\\nstep-travel = {}\\nmax-step = {}'",
+        pack_default("step-travel") / 2.0,
+        pack_default("max-step") / 2.0
+    );
+    assert!(plan.contains(&keys), "{keys} not in\n{plan}");
+    assert!(plan.contains("--case out/velocity-half/cases/val-ring-D60.18-s1.toml"), "{plan}");
+    assert!(plan.contains("docs/stepper-study/velocity-half/val-ring-D60.18-s1.summary.json"), "{plan}");
+
+    // An arm that does not exist is an error that names the arms that do.
+    let out = Command::new("make")
+        .args(["-n", "-f"])
+        .arg(root().join("pipelines/stepper-study.mk"))
+        .args(["ARM=eighth", "beds"])
+        .current_dir(s.path())
+        .output()
+        .expect("run make");
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("ARM=eighth: unknown arm; use velocity-half or force-quarter"), "{err}");
+}
+
 /// A record: a summary with the bed's bulk porosity and a two-point profile.
 fn record(dir: &Path, id: &str, porosity: f64, profile: [f64; 2], pack_s: f64) {
     std::fs::create_dir_all(dir).unwrap();
@@ -153,4 +203,67 @@ fn stepper_study_report_compares_the_means_and_profiles() {
         report.contains("**2 of 2 compared configurations fail:** val-sphere-D41, val-cylinder-D35.49."),
         "{report}"
     );
+    assert!(!report.contains("## Step halving"), "{report}");
+}
+
+#[test]
+fn stepper_study_report_decides_a_failing_configuration_by_step_halving() {
+    let s = Scenario::new();
+    let (v, f, half, quarter) = (s.file("v"), s.file("f"), s.file("half"), s.file("quarter"));
+    // Cylinders D = 35.49 mm: velocity 0.50, 0.54 (mean 0.52, s.e. 0.02) against force-level
+    // 0.45, 0.45: +3.5 s.e., fail. At a quarter of the substep the force-level beds are 0.49,
+    // 0.51 (mean 0.50, s.e. 0.01): −0.02 in √(0.02² + 0.01²) = 0.02236, −0.89 s.e.; at half the
+    // step the velocity beds are 0.51, 0.53 (mean 0.52): +0.00. Passes by step halving.
+    for (dir, id, e) in [
+        (&v, "val-cylinder-D35.49-s1", 0.50),
+        (&v, "val-cylinder-D35.49-s2", 0.54),
+        (&f, "val-cylinder-D35.49-s1", 0.45),
+        (&f, "val-cylinder-D35.49-s2", 0.45),
+        (&quarter, "val-cylinder-D35.49-s1", 0.49),
+        (&quarter, "val-cylinder-D35.49-s2", 0.51),
+        (&half, "val-cylinder-D35.49-s1", 0.51),
+        (&half, "val-cylinder-D35.49-s2", 0.53),
+    ] {
+        record(dir, id, e, [1.0, 0.4], 5.0);
+    }
+    // Spheres D = 41 mm: velocity 0.44, 0.46 (s.e. 0.01) against 0.40, 0.40: +5.0 s.e., fail;
+    // the force-level beds at a quarter of the substep, 0.40 and 0.42 (mean 0.41, s.e. 0.01),
+    // still differ by −0.04 in 0.01414, −2.83 s.e.: not decided, still a fail.
+    for (dir, id, e) in [
+        (&v, "val-sphere-D41-s1", 0.44),
+        (&v, "val-sphere-D41-s2", 0.46),
+        (&f, "val-sphere-D41-s1", 0.40),
+        (&f, "val-sphere-D41-s2", 0.40),
+        (&quarter, "val-sphere-D41-s1", 0.40),
+        (&quarter, "val-sphere-D41-s2", 0.42),
+    ] {
+        record(dir, id, e, [1.0, 0.4], 5.0);
+    }
+    let out = Command::new("python3")
+        .arg(root().join("pipelines/stepper-study/report.py"))
+        .arg("--table")
+        .arg(root().join("pipelines/paper/beds.csv"))
+        .arg("--study-table")
+        .arg(root().join("pipelines/stepper-study/beds.csv"))
+        .args(["--velocity", "v", "--reference", "f", "--velocity-half", "half", "--force-quarter", "quarter"])
+        .args(["-o", "report.md", "val-cylinder-D35.49", "val-sphere-D41"])
+        .current_dir(s.path())
+        .output()
+        .expect("run python3");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report = std::fs::read_to_string(s.file("report.md")).unwrap();
+    let rows: Vec<&str> = report.lines().filter(|l| l.starts_with("| `val-cylinder-D35.49`")).collect();
+    assert_eq!(rows.len(), 2, "{report}");
+    assert!(rows[0].contains("| +0.0700 (+3.50) | pass (step halving) |"), "{}", rows[0]);
+    assert!(
+        rows[1].contains("| 0.5200 ± 0.0200 (2) | 0.5200 ± 0.0100 (2) (+0.00) | 0.4500 ± 0.0000 (2) (-3.50) | 0.5000 ± 0.0100 (2) (-0.89) | 0.0000 |"),
+        "{}",
+        rows[1]
+    );
+    assert!(rows[1].contains("porosity: the force-level beds come to the velocity-level ones"), "{}", rows[1]);
+    let sphere: Vec<&str> = report.lines().filter(|l| l.starts_with("| `val-sphere-D41`")).collect();
+    assert!(sphere[0].contains("| +0.0500 (+5.00) | **fail** |"), "{}", sphere[0]);
+    assert!(sphere[1].contains("(-2.83)") && sphere[1].contains("porosity: not decided"), "{}", sphere[1]);
+    assert!(report.contains("**1 of 2 compared configurations fail:** val-sphere-D41."), "{report}");
+    assert!(report.contains("Decided by the step halving (below): val-cylinder-D35.49."), "{report}");
 }

@@ -2,7 +2,7 @@
 # table (pipelines/stepper-study/beds.csv, beds that are not in the paper's
 # table): awk -F, -v id=<config>-s<seed> -f case.awk TABLE. The voidprof
 # window rides along as a comment that stepper-study.mk reads back, as in the
-# paper's case files.
+# paper's case files. stepper-study.mk adds the stepper and its step.
 NR > 1 {
     want = id
     sub(/-s[0-9]+$/, "", want)
@@ -14,6 +14,5 @@ NR > 1 {
     printf "pellet = \"../%s.pellet\"\n", $2
     printf "tube-diameter = %s\ncount = %s\nseed = %s\nscheme = \"%s\"\n", $3, $4, seed, $7
     if ($8 != "") printf "max-time = %s\n", $8
-    printf "stepper = \"velocity\"\n"
 }
 END { if (!found) { print "case.awk: no row for bed " id > "/dev/stderr"; exit 2 } }

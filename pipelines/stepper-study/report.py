@@ -150,9 +150,65 @@ def cell(mean, se, n):
     return f"{mean:.4f} ± {se:.4f} ({n})"
 
 
+def porosity_z(a, b):
+    """(difference a − b, in combined standard errors) of two sides' mean porosities, or
+    None when a side has fewer than two beds."""
+    if len(a) < 2 or len(b) < 2:
+        return None
+    (ma, sa), (mb, sb) = mean_se([x["porosity"] for x in a]), mean_se([x["porosity"] for x in b])
+    return ma - mb, (ma - mb) / math.hypot(sa, sb)
+
+
+def side_cell(side):
+    if not side:
+        return "—"
+    return cell(*mean_se([b["porosity"] for b in side]), len(side))
+
+
 def mean_time(side):
     times = [b["pack_s"] for b in side if "pack_s" in b]
     return sum(times) / len(times) if times else None
+
+
+def read_side(directory, config):
+    return beds(directory, config) if directory and os.path.isdir(directory) else []
+
+
+def step_halving(text, velocity, reference, half, quarter, z_pass, r_pass, z_verdict, r_verdict):
+    """The step-halving row of a configuration, and its checks decided again: a failed one
+    passes when the force-level beds at a quarter of the substep agree with the velocity-level
+    beds and the velocity-level beds at half the step agree with the default's."""
+
+    def shifted(side):
+        z = porosity_z(side, velocity)
+        text = side_cell(side)
+        return text if z is None else f"{text} ({z[1]:+.2f})"
+
+    zq = porosity_z(quarter, velocity)
+    zh = porosity_z(half, velocity)
+    rmse, _ = profile_rmse(velocity, quarter)
+    velocity_converged = zh is None or abs(zh[1]) <= POROSITY_SIGMAS
+    by_halving = False
+    notes = []
+    if z_pass is False and zq is not None:
+        if abs(zq[1]) <= POROSITY_SIGMAS and velocity_converged:
+            z_pass, z_verdict, by_halving = True, "pass (step halving)", True
+            notes.append("porosity: the force-level beds come to the velocity-level ones")
+        else:
+            notes.append("porosity: not decided")
+    if r_pass is False and rmse is not None and len(quarter) >= 2:
+        if rmse <= PROFILE_RMSE and velocity_converged:
+            r_pass, r_verdict, by_halving = True, "pass (step halving)", True
+            notes.append("profile: the force-level beds come to the velocity-level ones")
+        else:
+            notes.append("profile: not decided")
+    if not notes:
+        notes.append("nothing to decide" if z_pass is not False and r_pass is not False else "too few beds")
+    row = (
+        f"| {text} | {side_cell(velocity)} | {shifted(half)} | {shifted(reference)} | {shifted(quarter)} "
+        f"| {'—' if rmse is None else f'{rmse:.4f}'} | {'; '.join(notes)} |"
+    )
+    return row, z_pass, r_pass, z_verdict, r_verdict, by_halving
 
 
 def main():
@@ -161,6 +217,8 @@ def main():
     parser.add_argument("--study-table", required=True)
     parser.add_argument("--velocity", required=True)
     parser.add_argument("--reference", required=True)
+    parser.add_argument("--velocity-half", help="records of the velocity-level stepper at half its step")
+    parser.add_argument("--force-quarter", help="records of the force-level stepper at a quarter of its substep")
     parser.add_argument("-o", "--output", required=True)
     parser.add_argument("configs", nargs="+")
     args = parser.parse_args()
@@ -168,6 +226,8 @@ def main():
     rows = read_rows(args.table)
     study = read_rows(args.study_table)
     lines = []
+    halving = []
+    decided = []
     verdicts = []
     unsettled = []
     builds = {}
@@ -175,8 +235,10 @@ def main():
         row = study.get(config) or rows.get(config)
         if row is None:
             fail(f"{config}: in neither {args.table} nor {args.study_table}")
-        velocity = beds(args.velocity, config) if os.path.isdir(args.velocity) else []
-        reference = beds(args.reference, config) if os.path.isdir(args.reference) else []
+        velocity = read_side(args.velocity, config)
+        reference = read_side(args.reference, config)
+        half = read_side(args.velocity_half, config)
+        quarter = read_side(args.force_quarter, config)
         for b in velocity:
             if b.get("settled") is False:
                 unsettled.append(b["id"])
@@ -211,6 +273,13 @@ def main():
             r_cell, r_verdict = f"{rmse:.4f}", "pass" if r_pass else "**fail**"
         if noise is not None:
             r_cell += f" ({noise:.4f})"
+        if half or quarter:
+            row_text, z_pass, r_pass, z_verdict, r_verdict, by_halving = step_halving(
+                label(row), velocity, reference, half, quarter, z_pass, r_pass, z_verdict, r_verdict
+            )
+            halving.append(row_text)
+            if by_halving:
+                decided.append(config)
         t_v, t_f = mean_time(velocity), mean_time(reference)
         t_cell = " / ".join("—" if t is None else f"{t:.0f}" for t in (t_v, t_f))
         lines.append(
@@ -228,6 +297,8 @@ def main():
         status = f"**{len(failed)} of {len(compared)} compared configurations fail:** " + ", ".join(failed) + "."
     else:
         status = f"All {len(compared)} compared configurations pass."
+    if decided:
+        status += " Decided by the step halving (below): " + ", ".join(decided) + "."
     if compared and pending:
         status += " Not compared yet (fewer than two beds on a side): " + ", ".join(pending) + "."
 
@@ -262,6 +333,24 @@ def main():
         *lines,
         "",
     ]
+    if halving:
+        page += [
+            "## Step halving",
+            "",
+            "The failing configurations packed again at a smaller step: the velocity-level stepper at half",
+            "its step (`--step-travel` and `--max-step` halved), the force-level stepper at a quarter of its",
+            "substep (`--substep-scale 0.25`); records in [stepper-study/velocity-half/](stepper-study/velocity-half/) and",
+            "[stepper-study/force-quarter/](stepper-study/force-quarter/). In brackets: the difference from the velocity-level",
+            "beds at the default step in combined standard errors. A failing check passes by step halving",
+            "when the force-level beds at a quarter of the substep agree with the velocity-level beds (the",
+            "same two tests) and the velocity-level beds at half the step agree with the default's.",
+            "",
+            "| configuration | velocity, default | velocity, half step | force-level, substep × 1 | force-level, substep × ¼ "
+            "| profile RMSE, velocity / ¼ | decision |",
+            "|---|---|---|---|---|---|---|",
+            *halving,
+            "",
+        ]
     if unsettled:
         page += [
             "Velocity-level beds that reached their time limit without settling (measured at their last",
