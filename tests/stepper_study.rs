@@ -145,6 +145,24 @@ fn record(dir: &Path, id: &str, porosity: f64, profile: [f64; 2], pack_s: f64) {
     std::fs::write(dir.join(format!("{id}.pack.time")), format!("{pack_s} 0\n")).unwrap();
 }
 
+/// The report on the records in `v` (velocity) and `f` (force-level) of the scenario, with
+/// `args` (options, then configurations) added; its text.
+fn report(s: &Scenario, args: &[&str]) -> String {
+    let out = Command::new("python3")
+        .arg(root().join("pipelines/stepper-study/report.py"))
+        .arg("--table")
+        .arg(root().join("pipelines/paper/beds.csv"))
+        .arg("--study-table")
+        .arg(root().join("pipelines/stepper-study/beds.csv"))
+        .args(["--velocity", "v", "--reference", "f", "-o", "report.md"])
+        .args(args)
+        .current_dir(s.path())
+        .output()
+        .expect("run python3");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    std::fs::read_to_string(s.file("report.md")).unwrap()
+}
+
 #[test]
 fn stepper_study_report_compares_the_means_and_profiles() {
     let s = Scenario::new();
@@ -168,19 +186,7 @@ fn stepper_study_report_compares_the_means_and_profiles() {
     // The 690-sphere bed: one bed against the study table's reference.
     record(&v, "sph690-batch-s1", 0.43, [1.0, 0.4], 3.0);
 
-    let out = Command::new("python3")
-        .arg(root().join("pipelines/stepper-study/report.py"))
-        .arg("--table")
-        .arg(root().join("pipelines/paper/beds.csv"))
-        .arg("--study-table")
-        .arg(root().join("pipelines/stepper-study/beds.csv"))
-        .args(["--velocity", "v", "--reference", "f", "-o", "report.md"])
-        .args(["val-sphere-D41", "val-cylinder-D35.49", "val-ring-D40.45", "sph690-batch"])
-        .current_dir(s.path())
-        .output()
-        .expect("run python3");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let report = std::fs::read_to_string(s.file("report.md")).unwrap();
+    let report = report(&s, &["val-sphere-D41", "val-cylinder-D35.49", "val-ring-D40.45", "sph690-batch"]);
     let row = |config: &str| -> String {
         report
             .lines()
@@ -214,44 +220,25 @@ fn stepper_study_report_decides_a_failing_configuration_by_step_halving() {
     // 0.45, 0.45: +3.5 s.e., fail. At a quarter of the substep the force-level beds are 0.49,
     // 0.51 (mean 0.50, s.e. 0.01): −0.02 in √(0.02² + 0.01²) = 0.02236, −0.89 s.e.; at half the
     // step the velocity beds are 0.51, 0.53 (mean 0.52): +0.00. Passes by step halving.
-    for (dir, id, e) in [
-        (&v, "val-cylinder-D35.49-s1", 0.50),
-        (&v, "val-cylinder-D35.49-s2", 0.54),
-        (&f, "val-cylinder-D35.49-s1", 0.45),
-        (&f, "val-cylinder-D35.49-s2", 0.45),
-        (&quarter, "val-cylinder-D35.49-s1", 0.49),
-        (&quarter, "val-cylinder-D35.49-s2", 0.51),
-        (&half, "val-cylinder-D35.49-s1", 0.51),
-        (&half, "val-cylinder-D35.49-s2", 0.53),
-    ] {
-        record(dir, id, e, [1.0, 0.4], 5.0);
-    }
     // Spheres D = 41 mm: velocity 0.44, 0.46 (s.e. 0.01) against 0.40, 0.40: +5.0 s.e., fail;
     // the force-level beds at a quarter of the substep, 0.40 and 0.42 (mean 0.41, s.e. 0.01),
     // still differ by −0.04 in 0.01414, −2.83 s.e.: not decided, still a fail.
-    for (dir, id, e) in [
-        (&v, "val-sphere-D41-s1", 0.44),
-        (&v, "val-sphere-D41-s2", 0.46),
-        (&f, "val-sphere-D41-s1", 0.40),
-        (&f, "val-sphere-D41-s2", 0.40),
-        (&quarter, "val-sphere-D41-s1", 0.40),
-        (&quarter, "val-sphere-D41-s2", 0.42),
-    ] {
-        record(dir, id, e, [1.0, 0.4], 5.0);
+    let beds = [
+        (&v, "val-cylinder-D35.49", [0.50, 0.54]),
+        (&f, "val-cylinder-D35.49", [0.45, 0.45]),
+        (&quarter, "val-cylinder-D35.49", [0.49, 0.51]),
+        (&half, "val-cylinder-D35.49", [0.51, 0.53]),
+        (&v, "val-sphere-D41", [0.44, 0.46]),
+        (&f, "val-sphere-D41", [0.40, 0.40]),
+        (&quarter, "val-sphere-D41", [0.40, 0.42]),
+    ];
+    for (dir, config, porosities) in beds {
+        for (seed, e) in porosities.into_iter().enumerate() {
+            record(dir, &format!("{config}-s{}", seed + 1), e, [1.0, 0.4], 5.0);
+        }
     }
-    let out = Command::new("python3")
-        .arg(root().join("pipelines/stepper-study/report.py"))
-        .arg("--table")
-        .arg(root().join("pipelines/paper/beds.csv"))
-        .arg("--study-table")
-        .arg(root().join("pipelines/stepper-study/beds.csv"))
-        .args(["--velocity", "v", "--reference", "f", "--velocity-half", "half", "--force-quarter", "quarter"])
-        .args(["-o", "report.md", "val-cylinder-D35.49", "val-sphere-D41"])
-        .current_dir(s.path())
-        .output()
-        .expect("run python3");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let report = std::fs::read_to_string(s.file("report.md")).unwrap();
+    let report =
+        report(&s, &["--velocity-half", "half", "--force-quarter", "quarter", "val-cylinder-D35.49", "val-sphere-D41"]);
     let rows: Vec<&str> = report.lines().filter(|l| l.starts_with("| `val-cylinder-D35.49`")).collect();
     assert_eq!(rows.len(), 2, "{report}");
     assert!(rows[0].contains("| +0.0700 (+3.50) | pass (step halving) |"), "{}", rows[0]);
