@@ -8,7 +8,9 @@
 #
 # A validation tube's bed is the paper's case, bit for bit (pipelines/paper/case.awk
 # on $(TABLE): pellet, tube, fill height, scheme, time limit, seed), with
-# `stepper = "velocity"` added; its force-level reference is the force-level study's
+# `stepper = "velocity"` added and without the table's release height: the
+# force-level references were poured 30 mm above the bed surface, and so are
+# the beds compared with them; its force-level reference is the force-level study's
 # records of the same tube in $(REFERENCE). The 690-sphere bed comes from this
 # study's own table $(STUDY_TABLE), which also holds its force-level reference
 # (a mean over 20 seeds, no profile) for as long as $(REFERENCE) has no records of it.
@@ -142,7 +144,7 @@ $(CASES)/%.toml: $(TABLE) $(STUDY_TABLE) $(PAPER)/case.awk $(HERE)/case.awk | $(
 	else \
 	  awk -F, -v id=$* -f $(PAPER)/case.awk $(TABLE) > $@.paper && \
 	  { echo "# packbed stepper study, bed $*: the paper's case with $(if $(ARM),the arm $(ARM),the velocity-level stepper)"; \
-	    sed 1d $@.paper; printf '%b\n' '$(ARM_KEYS)'; } > $@.tmp && rm -f $@.paper; \
+	    sed '1d; /^release-height/d' $@.paper; printf '%b\n' '$(ARM_KEYS)'; } > $@.tmp && rm -f $@.paper; \
 	fi || { rm -f $@.tmp $@.paper; exit 2; }
 	if cmp -s $@.tmp $@; then rm -f $@.tmp; else mv $@.tmp $@; fi
 

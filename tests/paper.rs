@@ -13,12 +13,12 @@ use serde_json::Value;
 /// rows that are never run (they must be reported missing), and a loading row
 /// whose bed is the validation tube's seed 1 (`same_as`).
 const TABLE: &str = "\
-config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as,drop_height_mm
+config,study,shape,tube_diameter_mm,seeds,fill_height_mm,window_z0_mm,window_z1_mm,scheme,cor,friction,position_jitter,angle_jitter,max_time_s,label,same_as,drop_height_mm,release_height_mm
 val-sphere-D25,validation,sphere,25,2,20,0,12,one-column,,,,,6,small Table 3 tube
 cor-sphere-D25-c0.3,cor,sphere,25,1,20,0,12,one-column,0.3,0.6,0.8,45,6,COR 0.3
 cor-sphere-D25-c0.9,cor,sphere,25,1,20,0,12,one-column,0.9,0.6,0.8,45,6,COR 0.9
 mu-sphere-D25-m0.3,friction,sphere,25,2,20,0,12,one-column,0.6,0.3,0.8,45,6,never run
-load-sphere-D25-two-columns,loading,sphere,25,1,20,0,12,two-columns,,,,,6,never run
+load-sphere-D25-two-columns,loading,sphere,25,1,20,0,12,two-columns,,,,,6,never run,,,40
 load-sphere-D25-one-column,loading,sphere,25,1,20,0,12,one-column,,,,,6,scheme 1,val-sphere-D25
 load-sphere-D25-drop200,loading,sphere,25,1,20,0,12,one-column,,,,,6,never run,,200
 ";
@@ -107,13 +107,17 @@ fn paper_pipeline_and_report_on_small_beds() {
     ] {
         assert!(page.contains(line), "no progress line {line}:\n{page}");
     }
-    // A row's drop height reaches its case file; rows without one keep pack's default.
-    let case = make(&s, &["out/cases/load-sphere-D25-drop200-s1.toml"]);
+    // A row's drop and release heights reach its case file; rows without them keep pack's
+    // defaults.
+    let cases = ["out/cases/load-sphere-D25-drop200-s1.toml", "out/cases/load-sphere-D25-two-columns-s1.toml"];
+    let case = make(&s, &cases);
     assert!(case.status.success(), "{}", String::from_utf8_lossy(&case.stderr));
-    assert!(std::fs::read_to_string(s.file("out/cases/load-sphere-D25-drop200-s1.toml"))
-        .unwrap()
-        .contains("\ndrop-height = 200\n"));
-    assert!(!std::fs::read_to_string(s.file("out/cases/val-sphere-D25-s1.toml")).unwrap().contains("drop-height"));
+    let dropped = std::fs::read_to_string(s.file(cases[0])).unwrap();
+    assert!(dropped.contains("\ndrop-height = 200\n") && !dropped.contains("release-height"), "{dropped}");
+    let poured = std::fs::read_to_string(s.file(cases[1])).unwrap();
+    assert!(poured.contains("\nrelease-height = 40\n") && !poured.contains("drop-height"), "{poured}");
+    let val = std::fs::read_to_string(s.file("out/cases/val-sphere-D25-s1.toml")).unwrap();
+    assert!(!val.contains("drop-height") && !val.contains("release-height"), "{val}");
     let scheme1 = page.lines().find(|l| l.starts_with("| load-sphere-D25-one-column (the beds of val-sphere-D25)"));
     let v1 = json(s.file("out/runs/val-sphere-D25-s1.summary.json"))["bulk_porosity"].as_f64().unwrap();
     // One bed: its value, with no spread.

@@ -21,5 +21,6 @@ NR > 1 {
     if ($13 != "") printf "angle-jitter = %s\n", $13
     if ($14 != "") printf "max-time = %s\n", $14
     if ($17 != "") printf "drop-height = %s\n", $17
+    if ($18 != "") printf "release-height = %s\n", $18
 }
 END { if (!found) { print "case.awk: no row for bed " id > "/dev/stderr"; exit 2 } }

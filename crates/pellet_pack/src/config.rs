@@ -53,6 +53,9 @@ pub struct PackOptions {
     pub density: Option<f64>,
     /// Height of a new pellet's centre above the bed top (mm).
     pub drop_height: Option<f64>,
+    /// Height above the floor at which pellets enter, the top of the tube they are poured
+    /// into (mm); `drop_height` above the bed once the bed comes within it.
+    pub release_height: Option<f64>,
     /// Interval between recorded pose frames (s).
     pub record_every: Option<f64>,
     /// Interval between checkpoints (simulated s; 0: only at the end).
@@ -169,6 +172,7 @@ impl PackOptions {
             wall_friction,
             density,
             drop_height,
+            release_height,
             record_every,
             checkpoint_every,
             max_time,
@@ -227,6 +231,11 @@ pub struct PackConfig {
     pub density_kg_m3: f64,
     /// Drop height above the bed top (m).
     pub drop_height_m: f64,
+    /// Height above the floor at which pellets enter while the bed is lower than it by more
+    /// than the drop height (m): pellets poured in at the top of the tube. Configurations
+    /// recorded before it existed read as none, the rule that wrote them.
+    #[serde(default)]
+    pub release_height_m: Option<f64>,
     /// Frame interval (s).
     pub record_every_s: f64,
     /// Time limit (s).
@@ -401,6 +410,17 @@ impl PackConfig {
             wall_friction: check("wall-friction", o.wall_friction.unwrap_or(0.6))?,
             density_kg_m3: check("density", o.density.unwrap_or(8030.0))?,
             drop_height_m: check("drop-height", o.drop_height.unwrap_or(30.0))? * mm,
+            release_height_m: match o.release_height {
+                Some(_) if scheme == LoadingScheme::Batch => {
+                    return Err(ConfigError(
+                        "--release-height is where pellets poured one at a time enter; the batch scheme places \
+                         every pellet at once: leave it out or choose another --scheme"
+                            .into(),
+                    ))
+                }
+                Some(h) => Some(check("release-height", h)? * mm),
+                None => None,
+            },
             record_every_s: whole_steps("record-every", o.record_every.unwrap_or(0.01))?,
             max_time_s: whole_steps("max-time", o.max_time.unwrap_or(120.0))?,
             scheme,

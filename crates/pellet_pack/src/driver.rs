@@ -190,6 +190,7 @@ pub fn resume_pack(
             position_jitter: config.position_jitter_dp * dp,
             angle_jitter: config.angle_jitter_rad,
             drop_height: config.drop_height_m.max(1.05 * r_b),
+            release_height: config.release_height_m,
             tube_radius,
             bounding_radius: r_b,
         },

@@ -58,6 +58,7 @@ pub(crate) const KEYS: &[(&str, Kind)] = &[
     ("wall-friction", closed(0.0, 10.0, "")),
     ("density", above(0.0, 1e6, " kg/m³")),
     ("drop-height", above(0.0, 1e4, " mm")),
+    ("release-height", above(0.0, MAX_LENGTH_MM, " mm")),
     // Also whole engine steps, which resolve checks.
     ("record-every", above(0.0, 1e3, " s")),
     ("checkpoint-every", closed(0.0, 1e6, " s")),
@@ -150,6 +151,7 @@ mod tests {
             wall_friction: Some(1.0),
             density: Some(1.0),
             drop_height: Some(1.0),
+            release_height: Some(1.0),
             record_every: Some(1.0),
             checkpoint_every: Some(1.0),
             max_time: Some(1.0),

@@ -82,6 +82,9 @@ pub struct FeedParams {
     pub angle_jitter: f64,
     /// Height of the new pellet's centre above the bed top (m).
     pub drop_height: f64,
+    /// Height of the new pellet's centre above the floor while the bed top is lower than it by
+    /// more than `drop_height` (m): pellets poured in at the top of a tube.
+    pub release_height: Option<f64>,
     /// Inner radius of the tube (m).
     pub tube_radius: f64,
     /// The pellet's bounding radius (m).
@@ -161,7 +164,8 @@ impl Feeder {
         UnitQuaternion::from_axis_angle(&axis, self.rng.random_range(0.0..=max))
     }
 
-    /// The next pellet, placed `drop_height` above `bed_top` (m).
+    /// The next pellet, placed `drop_height` above `bed_top` (m), or at `release_height` if
+    /// that is higher.
     pub fn next(&mut self, bed_top: f64) -> Spawn {
         let p = self.params;
         let mut place = self.column_place();
@@ -185,7 +189,8 @@ impl Feeder {
             }
         };
         self.count += 1;
-        Spawn { position: Vector3::new(place.x, place.y, bed_top + p.drop_height), orientation }
+        let z = (bed_top + p.drop_height).max(p.release_height.unwrap_or(0.0));
+        Spawn { position: Vector3::new(place.x, place.y, z), orientation }
     }
 
     /// The batch scheme's cloud of `n` pellets: centres uniform over the cross-section (clear of
@@ -272,6 +277,7 @@ mod tests {
             position_jitter: 0.008,
             angle_jitter: 45f64.to_radians(),
             drop_height: 0.03,
+            release_height: None,
             tube_radius: 0.02,
             bounding_radius: 0.00707,
         }
@@ -390,5 +396,19 @@ mod tests {
         let again = Feeder::new(p, 4).batch(300);
         assert!(cloud.iter().zip(&again).all(|(a, b)| a == b));
         assert_ne!(Feeder::new(p, 5).batch(1)[0], cloud[0]);
+    }
+
+    /// With a release height, pellets enter there until the bed comes within the drop height
+    /// of it, then the drop height above the bed; the draws are those of the plain feeder.
+    #[test]
+    fn pellets_enter_at_the_release_height_until_the_bed_reaches_it() {
+        let plain = params(LoadingScheme::OneColumn);
+        let poured = FeedParams { release_height: Some(0.15), ..plain };
+        let (mut a, mut b) = (Feeder::new(plain, 3), Feeder::new(poured, 3));
+        for (bed_top, z) in [(0.0, 0.15), (0.1, 0.15), (0.12, 0.15), (0.13, 0.16)] {
+            let (x, y) = (a.next(bed_top), b.next(bed_top));
+            assert!((y.position.z - z).abs() < 1e-15, "bed top {bed_top}: {}", y.position.z);
+            assert_eq!((x.position.xy(), x.orientation), (y.position.xy(), y.orientation));
+        }
     }
 }

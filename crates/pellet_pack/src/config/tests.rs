@@ -115,6 +115,11 @@ fn out_of_range_values_name_the_flag_and_range() {
         (PackOptions { pellet: None, ..base() }, "--pellet is required"),
         (PackOptions { resting_band: Some(0.0), ..base() }, "--resting-band must be in [0.0001, 0.1] m/s"),
         (PackOptions { threads: Some(0), ..base() }, "--threads must be in [1, 1024] (got 0)"),
+        (PackOptions { release_height: Some(0.0), ..base() }, "--release-height must be in (0, 10000] mm"),
+        (
+            PackOptions { release_height: Some(150.0), scheme: Some(LoadingScheme::Batch), ..base() },
+            "--release-height is where pellets poured one at a time enter",
+        ),
     ] {
         let err = PackConfig::resolve(&o).unwrap_err().to_string();
         assert!(err.contains(needle), "{err}");
