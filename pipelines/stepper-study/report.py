@@ -306,7 +306,7 @@ def main():
         "# The steppers' equivalence study",
         "",
         "Beds packed by `pack --stepper velocity` (`pack`'s default) against the force-level beds",
-        "(`--stepper acceleration`, the paper's formulation) of the same cases: the paper's validation tubes (its case files, bit for bit,",
+        "(`--stepper acceleration`, the paper's formulation) of the same cases: the paper's validation tubes (its case files, bit for bit, poured 30 mm above the bed surface,",
         "with the stepper changed; the force-level records are the force-level paper study's, in",
         "[acceleration/runs/](acceleration/runs/)) and the 690-sphere batch bed. Written by `make stepper-study-report`",
         "(`pipelines/stepper-study/report.py`) from the records in",
