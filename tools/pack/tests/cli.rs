@@ -274,6 +274,49 @@ fn case_file_paths_are_relative_to_the_case_file() {
     assert!(dir.path().join("top.mcap").exists());
 }
 
+/// `--release-height` reaches the feeder: every pellet of a shallow bed first appears at that
+/// height (100 mm) instead of 30 mm above the bed, and the batch scheme, which pours nothing,
+/// refuses it.
+#[test]
+fn pellets_poured_from_a_release_height_enter_there() {
+    let dir = setup();
+    let mut a: Vec<&str> = SHORT.to_vec();
+    a.extend(["--release-height", "100", "--record-every", "0.005", "-o", "r.mcap"]);
+    let out = pack(dir.path(), &a);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    let t = read(dir.path(), "r.mcap");
+    let mut first = Vec::new();
+    for f in &t.frames {
+        while first.len() < f.positions.len() {
+            first.push(f.positions[first.len()][2]);
+        }
+    }
+    assert_eq!(first.len(), 4, "{first:?}");
+    // Within one 5 ms frame of free fall (0.12 mm) below the release height.
+    assert!(first.iter().all(|z| (0.09987..=0.1 + 1e-12).contains(z)), "{first:?}");
+    let batch = pack(
+        dir.path(),
+        &[
+            "--pellet",
+            "s.pellet",
+            "--tube-diameter",
+            "30",
+            "--count",
+            "4",
+            "--scheme",
+            "batch",
+            "--release-height",
+            "100",
+            "-o",
+            "b.mcap",
+        ],
+    );
+    assert_eq!(batch.status.code(), Some(2));
+    let msg = stderr(&batch);
+    assert!(msg.contains("--release-height") && msg.lines().count() == 1, "{msg}");
+    assert!(!dir.path().join("b.mcap").exists());
+}
+
 fn read(dir: &Path, name: &str) -> pellet_io::Trajectory {
     let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
     pellet_io::read_trajectory(&bytes, name).unwrap()
