@@ -294,23 +294,9 @@ fn pellets_poured_from_a_release_height_enter_there() {
     assert_eq!(first.len(), 4, "{first:?}");
     // Within one 5 ms frame of free fall (0.12 mm) below the release height.
     assert!(first.iter().all(|z| (0.09987..=0.1 + 1e-12).contains(z)), "{first:?}");
-    let batch = pack(
-        dir.path(),
-        &[
-            "--pellet",
-            "s.pellet",
-            "--tube-diameter",
-            "30",
-            "--count",
-            "4",
-            "--scheme",
-            "batch",
-            "--release-height",
-            "100",
-            "-o",
-            "b.mcap",
-        ],
-    );
+    let mut b: Vec<&str> = SHORT.to_vec();
+    b.extend(["--scheme", "batch", "--release-height", "100", "-o", "b.mcap"]);
+    let batch = pack(dir.path(), &b);
     assert_eq!(batch.status.code(), Some(2));
     let msg = stderr(&batch);
     assert!(msg.contains("--release-height") && msg.lines().count() == 1, "{msg}");
