@@ -4,7 +4,10 @@
 # force-level stepper's --substep-scale), over several seeds, then a markdown table of the bulk porosity (mean ± standard error), the mean
 # CPU time and the settle times, with the change of the mean from the row above in combined
 # standard errors.
-#   [SEEDS=10] [SCALES="1 0.5"] bash pipelines/step-convergence.sh [BIN] [OUT] [CASES]
+#   [SEEDS=10] [SCALES="1 0.5"] [LIMIT=both] bash pipelines/step-convergence.sh [BIN] [OUT] [CASES]
+# LIMIT: which of the velocity-level stepper's two limits the scale applies to: both (the
+# default), travel (--step-travel only) or max-step (--max-step only); the other stays at
+# pack's default. Beds of a single limit are kept apart (<case>.<limit>-<scale>.<seed>).
 # BIN: the release binaries (default target/release); OUT: where the beds go (default
 # out/step-convergence); CASES (default "sph690 cyl300"):
 #   sph690  690 spheres of 10 mm, D = 79.9 mm, batch; porosity over 0–100 mm
@@ -20,6 +23,12 @@ OUT=${2:-out/step-convergence}
 CASES=${3:-sph690 cyl300}
 SEEDS=${SEEDS:-10}
 SCALES=${SCALES:-1 0.5}
+LIMIT=${LIMIT:-both}
+case $LIMIT in
+  both) tag= ;;
+  travel | max-step) tag="$LIMIT-" ;;
+  *) echo "step-convergence: LIMIT must be both, travel or max-step (got $LIMIT)" >&2; exit 2 ;;
+esac
 mkdir -p "$OUT"
 [ -f "$OUT/s.pellet" ] || "$BIN/mkpellet" sphere --diameter 10 -o "$OUT/s.pellet" >/dev/null
 [ -f "$OUT/c.pellet" ] || "$BIN/mkpellet" cylinder --diameter 10 --height 10 -o "$OUT/c.pellet" >/dev/null
@@ -34,13 +43,18 @@ max_step=$(default_of max-step)
 
 bed() {  # case scale seed → packs it unless done; its record is $OUT/<case>.<scale>.<seed>.json
   local case=$1 scale=$2 seed=$3 args window
-  local t="$OUT/$case.$scale.$seed"
+  local t="$OUT/$case.$tag$scale.$seed"
   [ -f "$t.json" ] && return 0
   local step
   case $case in
-    *-force) step="--stepper acceleration --substep-scale $scale" ;;
-    *) step="--stepper velocity --step-travel $(awk -v a="$travel" -v k="$scale" 'BEGIN{print a * k}')"
-       step="$step --max-step $(awk -v a="$max_step" -v k="$scale" 'BEGIN{print a * k}')" ;;
+    *-force)
+      [ "$LIMIT" = both ] || { echo "step-convergence: LIMIT=$LIMIT is the velocity-level stepper's; $case has one substep rule" >&2; exit 2; }
+      step="--stepper acceleration --substep-scale $scale" ;;
+    *) local kt=$scale km=$scale
+       [ "$LIMIT" = max-step ] && kt=1
+       [ "$LIMIT" = travel ] && km=1
+       step="--stepper velocity --step-travel $(awk -v a="$travel" -v k="$kt" 'BEGIN{print a * k}')"
+       step="$step --max-step $(awk -v a="$max_step" -v k="$km" 'BEGIN{print a * k}')" ;;
   esac
   case ${case%-force} in
     sph690) args="--pellet $OUT/s.pellet --tube-diameter 79.9 --count 690"; window=0,100 ;;
@@ -65,9 +79,10 @@ for case in $CASES; do
   done
 done
 
-python3 - "$OUT" "$travel" "$max_step" "$SEEDS" "$CASES" "$SCALES" <<'EOF'
+python3 - "$OUT" "$travel" "$max_step" "$SEEDS" "$CASES" "$SCALES" "$LIMIT" <<'EOF'
 import json, math, os, sys
-out, travel, max_step, seeds, cases, scales = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), sys.argv[5].split(), sys.argv[6].split()
+out, travel, max_step, seeds, cases, scales, limit = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4]), sys.argv[5].split(), sys.argv[6].split(), sys.argv[7]
+tag = "" if limit == "both" else limit + "-"
 print("| bed | step | seeds | bulk porosity, mean ± s.e. | change (s.e.) | CPU s, mean | settled at, s |")
 print("|---|---|---|---|---|---|---|")
 for case in cases:
@@ -75,7 +90,7 @@ for case in cases:
     for scale in scales:
         por, cpu, settled = [], [], []
         for seed in range(1, seeds + 1):
-            t = os.path.join(out, f"{case}.{scale}.{seed}")
+            t = os.path.join(out, f"{case}.{tag}{scale}.{seed}")
             if not os.path.exists(t + ".json"):
                 continue
             por.append(json.load(open(t + ".json"))["bulk_porosity"])
@@ -94,7 +109,9 @@ for case in cases:
         if case.endswith("-force"):
             step = "substep × %g%s" % (k, default)
         else:
-            step = "travel %g d, at most %g ms%s" % (travel * k, max_step * k * 1e3, default)
+            kt = 1 if limit == "max-step" else k
+            km = 1 if limit == "travel" else k
+            step = "travel %g d, at most %g ms%s" % (travel * kt, max_step * km * 1e3, default)
         late = "%.2f–%.2f" % (min(settled), max(settled))
         print(f"| {case} | {step} | {n} | {mean:.4f} ± {se:.4f} | {change} | {sum(cpu) / n:.2f} | {late} |")
         above = (mean, se)
