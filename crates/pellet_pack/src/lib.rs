@@ -24,7 +24,7 @@ pub use driver::{
     check_setup, engine_params, resume_pack, run_pack, Ending, PackError, Progress, RunSink, RunSummary, SolverStats,
     SOLVER_WINDOW_S,
 };
-pub use loading::{batch_height_per_pellet, Feeder, FeederState, LoadingScheme, Spawn};
+pub use loading::{batch_height_per_pellet, entry_height, Feeder, FeederState, LoadingScheme, Spawn};
 
 /// A configuration value out of range; the message names the flag and the range.
 #[derive(Debug, thiserror::Error)]

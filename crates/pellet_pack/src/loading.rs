@@ -42,6 +42,12 @@ pub fn batch_height_per_pellet(rb: f64, tube_radius: f64) -> f64 {
     4.0 / 3.0 * std::f64::consts::PI * rb.powi(3) / (area * BATCH_FILL)
 }
 
+/// Height (m) at which a pellet poured one at a time enters: `drop_height` above `bed_top`, or
+/// `release_height` above the floor (the top of the tube it is poured into) if that is higher.
+pub fn entry_height(bed_top: f64, drop_height: f64, release_height: Option<f64>) -> f64 {
+    (bed_top + drop_height).max(release_height.unwrap_or(0.0))
+}
+
 /// Where and how pellets enter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -164,8 +170,7 @@ impl Feeder {
         UnitQuaternion::from_axis_angle(&axis, self.rng.random_range(0.0..=max))
     }
 
-    /// The next pellet, placed `drop_height` above `bed_top` (m), or at `release_height` if
-    /// that is higher.
+    /// The next pellet, at [`entry_height`] over `bed_top` (m).
     pub fn next(&mut self, bed_top: f64) -> Spawn {
         let p = self.params;
         let mut place = self.column_place();
@@ -189,7 +194,7 @@ impl Feeder {
             }
         };
         self.count += 1;
-        let z = (bed_top + p.drop_height).max(p.release_height.unwrap_or(0.0));
+        let z = entry_height(bed_top, p.drop_height, p.release_height);
         Spawn { position: Vector3::new(place.x, place.y, z), orientation }
     }
 

@@ -207,8 +207,8 @@ fn refuse_to_drop_an_unfinished_run(output: &str) -> anyhow::Result<()> {
 }
 
 /// How tall to draw the tube in the viewer (m): the fill height or the height of
-/// the bed at a loose porosity of 0.5, plus the drop height, or the release height if higher; for the batch
-/// scheme the height of its initial cloud.
+/// the bed at a loose porosity of 0.5, with a pellet entering over it; for the batch scheme
+/// the height of its initial cloud.
 fn viewer_tube_height(config: &PackConfig, pellet: &pellet_geom::Pellet) -> f64 {
     let area = std::f64::consts::PI * config.tube_diameter_m.powi(2) / 4.0;
     let bed = match config.amount {
@@ -220,7 +220,7 @@ fn viewer_tube_height(config: &PackConfig, pellet: &pellet_geom::Pellet) -> f64 
         (LoadingScheme::Batch, Amount::Count(n)) => {
             f64::from(n) * pellet_pack::batch_height_per_pellet(rb, 0.5 * config.tube_diameter_m) + 3.0 * rb
         }
-        _ => (bed + config.drop_height_m).max(config.release_height_m.unwrap_or(0.0)) + rb,
+        _ => pellet_pack::entry_height(bed, config.drop_height_m, config.release_height_m) + rb,
     }
 }
 
