@@ -79,7 +79,7 @@ fn stepper_study_dry_run_packs_the_chosen_beds_with_the_velocity_stepper() {
     assert_eq!(again, ["val-sphere-D41-s2"]);
 }
 
-/// pack's default of a flag, from its `--help` ("[default: 0.025; ...").
+/// pack's default of a flag, from its `--help` ("[default: 0.0125; ...").
 fn pack_default(flag: &str) -> f64 {
     let help = Command::new(bin("pack")).arg("--help").output().expect("run pack --help");
     let help = String::from_utf8_lossy(&help.stdout).replace('\n', " ");

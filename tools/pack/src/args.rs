@@ -125,7 +125,7 @@ pub struct Args {
     contact_patch: Option<f64>,
     /// Under the velocity-level stepper, the largest relative surface travel of a touching or
     /// closing pair over one step, in pellet diameters; with --max-step it sets the step, and
-    /// halving both checks that a bed does not depend on it [default: 0.025; --resume
+    /// halving both checks that a bed does not depend on it [default: 0.0125; --resume
     /// without it continues a run with its own].
     #[arg(long, value_name = "DP")]
     step_travel: Option<f64>,
@@ -288,5 +288,30 @@ impl Args {
             substep_scale: self.substep_scale,
             threads: self.threads,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Args;
+    use clap::{CommandFactory, Parser};
+    use pellet_pack::PackConfig;
+
+    /// The value `--help` states as a flag's default ("[default: V; ..." or "[default: V]").
+    fn stated_default(flag: &str) -> f64 {
+        let help = Args::command().render_long_help().to_string().replace('\n', " ");
+        let after = help.split(&format!("--{flag} <")).nth(1).unwrap_or_else(|| panic!("--{flag} in --help"));
+        let value = after.split("[default: ").nth(1).expect("a stated default");
+        let value = value.split([';', ']']).next().unwrap();
+        value.parse().unwrap_or_else(|e| panic!("--{flag}'s stated default {value}: {e}"))
+    }
+
+    #[test]
+    fn help_states_the_engine_defaults_a_run_gets() {
+        let args = Args::parse_from(["pack", "--pellet", "p.pellet", "--tube-diameter", "40", "--count", "10"]);
+        let config = PackConfig::resolve(&args.options()).unwrap();
+        assert_eq!(stated_default("step-travel"), config.step_travel_dp);
+        assert_eq!(stated_default("max-step"), config.max_step_s);
+        assert_eq!(stated_default("contact-patch"), config.contact_patch_dp);
     }
 }
