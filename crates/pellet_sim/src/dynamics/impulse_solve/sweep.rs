@@ -15,6 +15,16 @@ use crate::team::Team;
 /// shorter than the wait for the other thread.
 pub(super) const MIN_PARALLEL_CONTACTS: usize = 128;
 
+/// A solve whose blocks still change after this many sweeps also asks, every `STILL_EVERY`
+/// sweeps, whether those sweeps changed the bodies' velocities (`Solve::net_change`): most
+/// solves end within a few sweeps without the question.
+const STILL_AFTER: usize = 4;
+const STILL_EVERY: usize = 8;
+/// Velocities that moved by less than this fraction of the tolerance over `STILL_EVERY`
+/// sweeps have stopped: a solve still converging moves them by more than the tolerance over
+/// as many sweeps, as its changes add up where a drift's cancel.
+const STILL_FRACTION: Real = 0.1;
+
 /// A slab's bodies: their velocities and, per body, how often a block has changed them.
 #[derive(Debug, Default)]
 struct Bodies {
@@ -175,6 +185,14 @@ impl<'a> Solve<'a> {
     /// until a sweep changes no relative velocity by more than `tolerance` (m/s), or
     /// `max_sweeps`; a block's change below `negligible` is not applied. Returns the sweeps, the
     /// last residual and whether it converged.
+    ///
+    /// The solve also ends when `STILL_EVERY` sweeps leave every body's velocity where they
+    /// found it, to within `STILL_FRACTION` of `tolerance` at the farthest contact point,
+    /// while its blocks still change: the impulses then only move along a direction that no
+    /// velocity feels (friction forces of a pellet on several points that cancel each other,
+    /// shifting from point to point at their Coulomb bounds), every sweep alike, and more
+    /// sweeps give the same step. The residual reported is then the blocks' change, as for any
+    /// solve.
     pub fn run(
         &self,
         problem: &Problem<'_>,
@@ -198,6 +216,14 @@ impl<'a> Solve<'a> {
         let next: [AtomicU64; 3] = [0, 1, 0].map(|h| AtomicU64::new(ends_of(halves[h].len())));
         let built = AtomicUsize::new(0);
         let outcome = Mutex::new((0, 0.0, false));
+        // The farthest contact point from a centre, for the bodies' surface speeds.
+        let reach = problem
+            .contacts
+            .iter()
+            .map(|c| c.lever_a.norm().max(if c.b_body().is_some() { c.lever_b.norm() } else { 0.0 }))
+            .fold(0.0, Real::max);
+        let last = Mutex::new(Vec::new());
+        let net = AtomicU64::new(0);
         team.run(threads, |thread, barrier| {
             // The blocks, every task at once: they write no velocity.
             loop {
@@ -242,7 +268,14 @@ impl<'a> Solve<'a> {
                     .flatten()
                     .map(|&s| Real::from_bits(buffer[s].load(Ordering::Relaxed)))
                     .fold(0.0, Real::max);
-                let converged = residual <= tolerance;
+                let mut converged = residual <= tolerance;
+                if !converged && sweep >= STILL_AFTER && (sweep - STILL_AFTER).is_multiple_of(STILL_EVERY) {
+                    if thread == 0 {
+                        net.store(self.net_change(&mut lock(&last), reach).to_bits(), Ordering::Relaxed);
+                    }
+                    barrier.wait();
+                    converged = Real::from_bits(net.load(Ordering::Relaxed)) <= STILL_FRACTION * tolerance;
+                }
                 if converged || sweep == max_sweeps {
                     if thread == 0 {
                         *lock(&outcome) = (sweep, residual, converged);
@@ -253,6 +286,32 @@ impl<'a> Solve<'a> {
         });
         let (sweeps, residual, converged) = outcome.into_inner().unwrap_or_else(PoisonError::into_inner);
         ImpulseSolution { sweeps, residual, converged, ..ImpulseSolution::default() }
+    }
+
+    /// The largest change of a body's velocity, |Δv| + `reach`·|Δω| (m/s), since the velocities
+    /// in `last`, which then become these; infinite when `last` holds none yet.
+    fn net_change(&self, last: &mut Vec<(Vec3, Vec3)>, reach: Real) -> Real {
+        let fresh = last.is_empty();
+        let mut change: Real = 0.0;
+        let mut k = 0;
+        for slab in &self.slabs {
+            let slab = lock(slab);
+            for (v, w) in slab.v.iter().zip(&slab.w) {
+                if fresh {
+                    last.push((*v, *w));
+                } else {
+                    let (v0, w0) = &mut last[k];
+                    change = change.max((v - *v0).norm() + reach * (w - *w0).norm());
+                    (*v0, *w0) = (*v, *w);
+                }
+                k += 1;
+            }
+        }
+        if fresh {
+            Real::INFINITY
+        } else {
+            change
+        }
     }
 
     /// The velocities back into `st`, and the impulses of the solve's `n` contacts into `sol`.
