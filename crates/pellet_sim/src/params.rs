@@ -211,7 +211,8 @@ pub struct VelocityParams {
     /// The solve stops when a sweep changes no contact's relative velocity by more than this
     /// factor of εp, or by more than `relative_tolerance` of the fastest pellet's speed if
     /// that is more: a bed in motion needs no better, and a bed coming to rest gets this. It
-    /// also stops when a sweep changes no body's velocity by more than that tolerance.
+    /// also stops when eight sweeps move no body's velocity by more than a tenth of that
+    /// tolerance (`dynamics/impulse_solve/sweep.rs`).
     pub tolerance_factor: Real,
     /// The solve's tolerance as a fraction of the fastest pellet's speed (see
     /// `tolerance_factor`).

@@ -93,9 +93,9 @@ fn friction_guard_drops_friction_that_would_do_positive_work() {
 /// (`pack`'s engine settings, steps of 5 ms), to round-off (1e-12 J; the pours hold about
 /// 1e-2 J). Measured: projection lifted pellets in 32–89 steps of each pour's 300, 5.5e-6 to
 /// 9.9e-6 J in all, at most 0.84 of its step's removals (`docs/engine.md`, Known gaps,
-/// "Projection's energy"). Where the energy rose in a step (by up to 3.1e-8 J, seeds 7 and 2, with pellets
-/// still striking), projection had added nothing: the normal impulses of simultaneous impacts
-/// did the positive work.
+/// "Projection's energy"). Where the energy rose in a step (by up to 3.1e-8 J, seeds 7 and 2,
+/// with pellets still striking), projection had added nothing: the normal impulses of
+/// simultaneous impacts did the positive work.
 #[test]
 fn velocity_projection_never_adds_more_than_the_contacts_removed() {
     for seed in [7, 3, 11, 1, 2] {

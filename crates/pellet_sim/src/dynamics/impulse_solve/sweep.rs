@@ -216,13 +216,10 @@ impl<'a> Solve<'a> {
         let next: [AtomicU64; 3] = [0, 1, 0].map(|h| AtomicU64::new(ends_of(halves[h].len())));
         let built = AtomicUsize::new(0);
         let outcome = Mutex::new((0, 0.0, false));
-        // The farthest contact point from a centre, for the bodies' surface speeds.
-        let reach = problem
-            .contacts
-            .iter()
-            .map(|c| c.lever_a.norm().max(if c.b_body().is_some() { c.lever_b.norm() } else { 0.0 }))
-            .fold(0.0, Real::max);
-        let last = Mutex::new(Vec::new());
+        // The velocities the still test compares with, and the farthest contact point from a
+        // centre (for the bodies' surface speeds): found by the first test, which few solves
+        // reach.
+        let last = Mutex::new(None);
         let net = AtomicU64::new(0);
         team.run(threads, |thread, barrier| {
             // The blocks, every task at once: they write no velocity.
@@ -271,7 +268,8 @@ impl<'a> Solve<'a> {
                 let mut converged = residual <= tolerance;
                 if !converged && sweep >= STILL_AFTER && (sweep - STILL_AFTER).is_multiple_of(STILL_EVERY) {
                     if thread == 0 {
-                        net.store(self.net_change(&mut lock(&last), reach).to_bits(), Ordering::Relaxed);
+                        let net_change = self.net_change(&mut lock(&last), problem.contacts);
+                        net.store(net_change.to_bits(), Ordering::Relaxed);
                     }
                     barrier.wait();
                     converged = Real::from_bits(net.load(Ordering::Relaxed)) <= STILL_FRACTION * tolerance;
@@ -288,10 +286,19 @@ impl<'a> Solve<'a> {
         ImpulseSolution { sweeps, residual, converged, ..ImpulseSolution::default() }
     }
 
-    /// The largest change of a body's velocity, |Δv| + `reach`·|Δω| (m/s), since the velocities
-    /// in `last`, which then become these; infinite when `last` holds none yet.
-    fn net_change(&self, last: &mut Vec<(Vec3, Vec3)>, reach: Real) -> Real {
-        let fresh = last.is_empty();
+    /// The largest change of a body's velocity, |Δv| + r·|Δω| (m/s) with r the farthest of
+    /// `contacts`' points from its body's centre, since the velocities in `last`, which then
+    /// become these; infinite when `last` holds none yet.
+    fn net_change(&self, last: &mut Option<(Real, Vec<(Vec3, Vec3)>)>, contacts: &[Contact]) -> Real {
+        let fresh = last.is_none();
+        let (reach, last) = last.get_or_insert_with(|| {
+            let reach = contacts
+                .iter()
+                .map(|c| c.lever_a.norm().max(if c.b_body().is_some() { c.lever_b.norm() } else { 0.0 }))
+                .fold(0.0, Real::max);
+            (reach, Vec::new())
+        });
+        let reach = *reach;
         let mut change: Real = 0.0;
         let mut k = 0;
         for slab in &self.slabs {
